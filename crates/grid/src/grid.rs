@@ -1,0 +1,616 @@
+//! The corner-point grid: pillars (COORD), corner depths (ZCORN), activity (ACTNUM),
+//! map axes, units, per-cell properties and simulation report steps.
+//!
+//! Conventions, decided here once:
+//! * cells are indexed `(i, j, k)` from 0, `i` fastest, as in the files; the command line
+//!   speaks 1-based `I,J,K` and converts at its edge;
+//! * depths are positive downward in the model (as in ZCORN); the display frame used by
+//!   meshes is map x, map y and *elevation* = -depth, see [`CornerPointGrid::to_display`];
+//! * the 8 corners of a cell are numbered as in Eclipse: `c = di + 2 dj + 4 dk` with
+//!   `di, dj` in {0, 1} the pillar offsets and `dk = 0` the top, `dk = 1` the bottom face.
+
+use std::collections::BTreeMap;
+
+use ndarray::{Array3, ArrayView1, s};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::{Error, Result};
+
+/// Dimensions of a grid in cells.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Dims {
+    pub nx: usize,
+    pub ny: usize,
+    pub nz: usize,
+}
+
+impl Dims {
+    /// Checked dimensions: each axis at least 1, and the number of corner depths
+    /// (8 per cell) representable without overflow.
+    pub fn new(nx: usize, ny: usize, nz: usize) -> Result<Self> {
+        let d = Dims { nx, ny, nz };
+        if nx == 0 || ny == 0 || nz == 0 {
+            return Err(Error::Invalid(format!(
+                "dimensions {nx} x {ny} x {nz} have a zero axis"
+            )));
+        }
+        d.zcorn_len()
+            .ok_or_else(|| Error::Invalid(format!("dimensions {nx} x {ny} x {nz} overflow")))?;
+        Ok(d)
+    }
+
+    /// Number of cells, `None` on overflow.
+    pub fn cell_count_checked(&self) -> Option<usize> {
+        self.nx.checked_mul(self.ny)?.checked_mul(self.nz)
+    }
+
+    /// Number of cells (valid dims never overflow).
+    pub fn cell_count(&self) -> usize {
+        self.nx * self.ny * self.nz
+    }
+
+    /// Number of ZCORN values, `None` on overflow.
+    pub fn zcorn_len(&self) -> Option<usize> {
+        self.cell_count_checked()?.checked_mul(8)
+    }
+
+    /// Number of COORD values, `None` on overflow.
+    pub fn coord_len(&self) -> Option<usize> {
+        (self.nx.checked_add(1)?)
+            .checked_mul(self.ny.checked_add(1)?)?
+            .checked_mul(6)
+    }
+
+    /// Linear cell index, `i` fastest.
+    pub fn cell_index(&self, i: usize, j: usize, k: usize) -> usize {
+        i + self.nx * (j + self.ny * k)
+    }
+
+    /// Inverse of [`Dims::cell_index`].
+    pub fn cell_ijk(&self, index: usize) -> (usize, usize, usize) {
+        (
+            index % self.nx,
+            (index / self.nx) % self.ny,
+            index / (self.nx * self.ny),
+        )
+    }
+}
+
+/// Length unit of the grid coordinates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    #[default]
+    Metres,
+    Feet,
+    Centimetres,
+}
+
+impl Units {
+    /// Parses the Eclipse spellings (`METRES`, `FEET`, `CM`, and common variants).
+    pub fn parse(word: &str) -> Option<Self> {
+        match word.trim().to_ascii_uppercase().as_str() {
+            "METRES" | "METERS" | "M" | "METRIC" => Some(Units::Metres),
+            "FEET" | "FT" | "FIELD" => Some(Units::Feet),
+            "CM" | "CENTIMETRES" | "CENTIMETERS" => Some(Units::Centimetres),
+            _ => None,
+        }
+    }
+
+    /// The Eclipse keyword spelling.
+    pub fn eclipse_name(&self) -> &'static str {
+        match self {
+            Units::Metres => "METRES",
+            Units::Feet => "FEET",
+            Units::Centimetres => "CM",
+        }
+    }
+}
+
+/// MAPAXES: three points in map coordinates, a point on the local y axis, the local
+/// origin and a point on the local x axis, in the order of the keyword.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MapAxes {
+    pub y_axis: [f64; 2],
+    pub origin: [f64; 2],
+    pub x_axis: [f64; 2],
+}
+
+impl MapAxes {
+    /// From the six numbers of the keyword, in file order.
+    pub fn from_values(v: [f64; 6]) -> Self {
+        MapAxes {
+            y_axis: [v[0], v[1]],
+            origin: [v[2], v[3]],
+            x_axis: [v[4], v[5]],
+        }
+    }
+
+    /// The six numbers of the keyword, in file order.
+    pub fn values(&self) -> [f64; 6] {
+        [
+            self.y_axis[0],
+            self.y_axis[1],
+            self.origin[0],
+            self.origin[1],
+            self.x_axis[0],
+            self.x_axis[1],
+        ]
+    }
+
+    /// Unit vectors of the local x and y axes in map coordinates; `None` when the
+    /// axes are degenerate (coincident points).
+    fn unit_axes(&self) -> Option<([f64; 2], [f64; 2])> {
+        let unit = |p: [f64; 2]| {
+            let d = [p[0] - self.origin[0], p[1] - self.origin[1]];
+            let n = d[0].hypot(d[1]);
+            (n > 0.0 && n.is_finite()).then(|| [d[0] / n, d[1] / n])
+        };
+        Some((unit(self.x_axis)?, unit(self.y_axis)?))
+    }
+
+    /// Transforms local grid (x, y) to map coordinates, as `resdata` and `xtgeo` do:
+    /// `origin + x * ux + y * uy` with `ux`, `uy` the unit axes.
+    pub fn to_map(&self, x: f64, y: f64) -> [f64; 2] {
+        match self.unit_axes() {
+            Some((ux, uy)) => [
+                self.origin[0] + x * ux[0] + y * uy[0],
+                self.origin[1] + x * ux[1] + y * uy[1],
+            ],
+            None => [x, y],
+        }
+    }
+}
+
+/// One report step of a simulation restart (UNRST or Xnnnn).
+#[derive(Clone, Debug, Default)]
+pub struct ReportStep {
+    /// Report number (SEQNUM).
+    pub number: i32,
+    /// Simulation date (year, month, day) from INTEHEAD, when present.
+    pub date: Option<(i32, u32, u32)>,
+    /// Solution arrays (PRESSURE, SWAT, SGAS, ...) over all cells; inactive cells are NaN.
+    pub arrays: BTreeMap<String, Array3<f32>>,
+}
+
+/// A corner-point grid with its properties.
+///
+/// Arrays use `ndarray` in file order (`i` fastest, so the last axis is `i`):
+/// * `coord`: `[ny + 1, nx + 1, 6]`, per pillar top xyz then bottom xyz, local coordinates;
+/// * `zcorn`: `[2 nz, 2 ny, 2 nx]` corner depths;
+/// * `actnum`: `[nz, ny, nx]`;
+/// * properties and report arrays: `[nz, ny, nx]`, NaN where a value is not defined.
+#[derive(Clone, Debug)]
+pub struct CornerPointGrid {
+    dims: Dims,
+    pub coord: Array3<f64>,
+    pub zcorn: Array3<f32>,
+    pub actnum: Array3<bool>,
+    pub mapaxes: Option<MapAxes>,
+    pub units: Units,
+    /// Per-cell static properties (PORO, PERMX, NTG, ...), keyword upper case.
+    pub properties: BTreeMap<String, Array3<f32>>,
+    /// Report steps of a simulation, in file order.
+    pub report_steps: Vec<ReportStep>,
+    /// What a reader skipped and the user should know (a missing INCLUDE read with
+    /// `grid_only`, an ignored keyword section, ...), one line each, naming the file.
+    pub warnings: Vec<String>,
+}
+
+impl CornerPointGrid {
+    /// Builds a grid from flat arrays in file order, checking their lengths and that
+    /// every pillar coordinate and corner depth is finite.
+    pub fn from_arrays(
+        dims: Dims,
+        coord: Vec<f64>,
+        zcorn: Vec<f32>,
+        actnum: Option<Vec<bool>>,
+    ) -> Result<Self> {
+        let Dims { nx, ny, nz } = dims;
+        let expect = |name: &str, got: usize, want: Option<usize>| -> Result<usize> {
+            let want = want.ok_or_else(|| Error::Invalid(format!("{name}: size overflows")))?;
+            if got != want {
+                return Err(Error::Invalid(format!(
+                    "{name} has {got} values, {nx} x {ny} x {nz} needs {want}"
+                )));
+            }
+            Ok(want)
+        };
+        expect("COORD", coord.len(), dims.coord_len())?;
+        expect("ZCORN", zcorn.len(), dims.zcorn_len())?;
+        if let Some(bad) = coord.iter().position(|v| !v.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "COORD value {} (pillar {}) is not a finite number",
+                bad + 1,
+                bad / 6 + 1
+            )));
+        }
+        if let Some(bad) = zcorn.par_iter().position_first(|v| !v.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "ZCORN value {} is not a finite number",
+                bad + 1
+            )));
+        }
+        let actnum = match actnum {
+            Some(a) => {
+                expect("ACTNUM", a.len(), dims.cell_count_checked())?;
+                a
+            }
+            None => vec![true; dims.cell_count()],
+        };
+        let shape_err = |e: ndarray::ShapeError| Error::Invalid(e.to_string());
+        Ok(CornerPointGrid {
+            dims,
+            coord: Array3::from_shape_vec((ny + 1, nx + 1, 6), coord).map_err(shape_err)?,
+            zcorn: Array3::from_shape_vec((2 * nz, 2 * ny, 2 * nx), zcorn).map_err(shape_err)?,
+            actnum: Array3::from_shape_vec((nz, ny, nx), actnum).map_err(shape_err)?,
+            mapaxes: None,
+            units: Units::default(),
+            properties: BTreeMap::new(),
+            report_steps: Vec::new(),
+            warnings: Vec::new(),
+        })
+    }
+
+    pub fn dims(&self) -> Dims {
+        self.dims
+    }
+
+    pub fn cell_count(&self) -> usize {
+        self.dims.cell_count()
+    }
+
+    pub fn is_active(&self, i: usize, j: usize, k: usize) -> bool {
+        self.actnum[[k, j, i]]
+    }
+
+    pub fn active_count(&self) -> usize {
+        self.actnum
+            .as_slice()
+            .map(|a| a.par_iter().filter(|&&b| b).count())
+            .unwrap_or_else(|| self.actnum.iter().filter(|&&b| b).count())
+    }
+
+    /// For every cell (linear index, `i` fastest) its index among the active cells,
+    /// or `None` when inactive. This is how INIT and restart arrays map onto cells.
+    pub fn active_index(&self) -> Vec<Option<u32>> {
+        let mut next = 0u32;
+        self.actnum
+            .iter()
+            .map(|&a| {
+                a.then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    }
+
+    /// Spreads an array over active cells onto all cells, NaN for inactive ones.
+    /// Returns `None` when `values` does not hold exactly one value per active cell.
+    pub fn expand_active(&self, values: &[f32]) -> Option<Array3<f32>> {
+        let mut it = values.iter();
+        let full: Vec<f32> = self
+            .actnum
+            .iter()
+            .map(|&a| {
+                if a {
+                    it.next().copied()
+                } else {
+                    Some(f32::NAN)
+                }
+            })
+            .collect::<Option<_>>()?;
+        if it.next().is_some() {
+            return None;
+        }
+        let Dims { nx, ny, nz } = self.dims;
+        Array3::from_shape_vec((nz, ny, nx), full).ok()
+    }
+
+    /// Pillar `(pi, pj)` (0..=nx, 0..=ny) as top and bottom points, local coordinates.
+    pub fn pillar(&self, pi: usize, pj: usize) -> ArrayView1<'_, f64> {
+        self.coord.slice(s![pj, pi, ..])
+    }
+
+    /// Depth of corner `c` (Eclipse numbering, see module docs) of cell `(i, j, k)`.
+    pub fn corner_depth(&self, i: usize, j: usize, k: usize, c: usize) -> f32 {
+        let (di, dj, dk) = (c & 1, (c >> 1) & 1, (c >> 2) & 1);
+        self.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]]
+    }
+
+    /// Local (x, y, depth) of the point at `depth` on pillar `(pi, pj)`.
+    pub fn point_on_pillar(&self, pi: usize, pj: usize, depth: f64) -> [f64; 3] {
+        let p = self.pillar(pi, pj);
+        let dz = p[5] - p[2];
+        let t = if dz.abs() > f64::EPSILON * p[2].abs().max(1.0) {
+            (depth - p[2]) / dz
+        } else {
+            0.0
+        };
+        [p[0] + t * (p[3] - p[0]), p[1] + t * (p[4] - p[1]), depth]
+    }
+
+    /// Local (x, y, depth) of corner `c` of cell `(i, j, k)`, before MAPAXES.
+    pub fn corner_local(&self, i: usize, j: usize, k: usize, c: usize) -> [f64; 3] {
+        let depth = f64::from(self.corner_depth(i, j, k, c));
+        self.point_on_pillar(i + (c & 1), j + ((c >> 1) & 1), depth)
+    }
+
+    /// Map (x, y, depth) of a local point: MAPAXES applied when present.
+    pub fn to_map(&self, local: [f64; 3]) -> [f64; 3] {
+        match &self.mapaxes {
+            Some(m) => {
+                let [x, y] = m.to_map(local[0], local[1]);
+                [x, y, local[2]]
+            }
+            None => local,
+        }
+    }
+
+    /// The 8 corners of cell `(i, j, k)` in map coordinates (x, y, depth), in Eclipse
+    /// order (see module docs).
+    pub fn cell_corners(&self, i: usize, j: usize, k: usize) -> [[f64; 3]; 8] {
+        std::array::from_fn(|c| self.to_map(self.corner_local(i, j, k, c)))
+    }
+
+    /// The display frame used by every mesh: map x and y, elevation = -depth, all
+    /// relative to `origin` (itself map x, map y, elevation) to keep `f32` precise.
+    pub fn to_display(origin: [f64; 3], map: [f64; 3]) -> [f32; 3] {
+        [
+            (map[0] - origin[0]) as f32,
+            (map[1] - origin[1]) as f32,
+            (-map[2] - origin[2]) as f32,
+        ]
+    }
+
+    /// A display origin for this grid: the centre of its bounding box in display
+    /// coordinates (map x, map y, elevation).
+    pub fn display_origin(&self) -> [f64; 3] {
+        let b = self.bounding_box();
+        [
+            0.5 * (b.min[0] + b.max[0]),
+            0.5 * (b.min[1] + b.max[1]),
+            -0.5 * (b.min[2] + b.max[2]),
+        ]
+    }
+
+    /// Bounding box of the corners of the active cells (all cells when none is
+    /// active), in map coordinates (x, y, depth).
+    pub fn bounding_box(&self) -> BoundingBox {
+        let any_active = self.actnum.iter().any(|&a| a);
+        let Dims { nx, ny, nz } = self.dims;
+        (0..nz * ny)
+            .into_par_iter()
+            .map(|row| {
+                let (j, k) = (row % ny, row / ny);
+                let mut b = BoundingBox::empty();
+                for i in 0..nx {
+                    if !any_active || self.actnum[[k, j, i]] {
+                        for c in self.cell_corners(i, j, k) {
+                            b.include(c);
+                        }
+                    }
+                }
+                b
+            })
+            .reduce(BoundingBox::empty, |a, b| a.union(&b))
+    }
+
+    /// Fault detection along the i direction: does the face between `(i, j, k)` and
+    /// `(i + 1, j, k)` have a shared corner whose depths differ between the two cells?
+    pub fn i_face_faulted(&self, i: usize, j: usize, k: usize) -> bool {
+        (0..2).any(|dk| {
+            (0..2).any(|dj| {
+                let a = self.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + 1]];
+                let b = self.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + 2]];
+                a != b
+            })
+        })
+    }
+
+    /// Fault detection along the j direction, between `(i, j, k)` and `(i, j + 1, k)`.
+    pub fn j_face_faulted(&self, i: usize, j: usize, k: usize) -> bool {
+        (0..2).any(|dk| {
+            (0..2).any(|di| {
+                let a = self.zcorn[[2 * k + dk, 2 * j + 1, 2 * i + di]];
+                let b = self.zcorn[[2 * k + dk, 2 * j + 2, 2 * i + di]];
+                a != b
+            })
+        })
+    }
+
+    /// Fraction of the interior vertical faces between two active cells that are split
+    /// by a fault (some shared corner depth differs).
+    pub fn fault_split_fraction(&self) -> f64 {
+        let Dims { nx, ny, nz } = self.dims;
+        let (faulted, total) = (0..nz)
+            .into_par_iter()
+            .map(|k| {
+                let (mut f, mut t) = (0u64, 0u64);
+                for j in 0..ny {
+                    for i in 0..nx {
+                        if !self.actnum[[k, j, i]] {
+                            continue;
+                        }
+                        if i + 1 < nx && self.actnum[[k, j, i + 1]] {
+                            t += 1;
+                            f += u64::from(self.i_face_faulted(i, j, k));
+                        }
+                        if j + 1 < ny && self.actnum[[k, j + 1, i]] {
+                            t += 1;
+                            f += u64::from(self.j_face_faulted(i, j, k));
+                        }
+                    }
+                }
+                (f, t)
+            })
+            .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+        if total == 0 {
+            0.0
+        } else {
+            faulted as f64 / total as f64
+        }
+    }
+
+    /// Adds (or replaces) a per-cell property over all cells, checking its shape.
+    pub fn set_property(&mut self, name: &str, values: Array3<f32>) -> Result<()> {
+        let Dims { nx, ny, nz } = self.dims;
+        if values.dim() != (nz, ny, nx) {
+            return Err(Error::Invalid(format!(
+                "property {name} has shape {:?}, the grid is {nx} x {ny} x {nz}",
+                values.dim()
+            )));
+        }
+        self.properties.insert(name.to_ascii_uppercase(), values);
+        Ok(())
+    }
+
+    /// A property by name (case-insensitive) among the static properties, then the
+    /// arrays of the last report step.
+    pub fn property(&self, name: &str) -> Option<&Array3<f32>> {
+        let key = name.to_ascii_uppercase();
+        self.properties.get(&key).or_else(|| {
+            self.report_steps
+                .iter()
+                .rev()
+                .find_map(|s| s.arrays.get(&key))
+        })
+    }
+}
+
+/// Axis-aligned box; empty when `min > max`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BoundingBox {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl BoundingBox {
+    pub fn empty() -> Self {
+        BoundingBox {
+            min: [f64::INFINITY; 3],
+            max: [f64::NEG_INFINITY; 3],
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        (0..3).any(|a| self.min[a] > self.max[a])
+    }
+
+    pub fn include(&mut self, p: [f64; 3]) {
+        for a in 0..3 {
+            self.min[a] = self.min[a].min(p[a]);
+            self.max[a] = self.max[a].max(p[a]);
+        }
+    }
+
+    pub fn union(&self, other: &Self) -> Self {
+        BoundingBox {
+            min: std::array::from_fn(|a| self.min[a].min(other.min[a])),
+            max: std::array::from_fn(|a| self.max[a].max(other.max[a])),
+        }
+    }
+
+    /// Length of the diagonal; 0 for an empty box.
+    pub fn extent(&self) -> f64 {
+        if self.is_empty() {
+            return 0.0;
+        }
+        (0..3)
+            .map(|a| (self.max[a] - self.min[a]).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2 x 1 x 1 grid of unit cubes with vertical pillars, the right cell thrown
+    /// down by `throw` on its shared face.
+    fn two_cells(throw: f32) -> CornerPointGrid {
+        let dims = Dims::new(2, 1, 1).unwrap();
+        let mut coord = Vec::new();
+        for j in 0..2 {
+            for i in 0..3 {
+                coord.extend([i as f64, j as f64, 0.0, i as f64, j as f64, 10.0]);
+            }
+        }
+        let mut zcorn = Vec::new();
+        for dk in 0..2 {
+            for _ in 0..2 {
+                for x in 0..4 {
+                    let right = if x >= 2 { throw } else { 0.0 };
+                    zcorn.push(1000.0 + dk as f32 + right);
+                }
+            }
+        }
+        CornerPointGrid::from_arrays(dims, coord, zcorn, None).unwrap()
+    }
+
+    #[test]
+    fn corners_interpolate_pillars_and_follow_eclipse_order() {
+        let g = two_cells(0.0);
+        let c = g.cell_corners(1, 0, 0);
+        assert_eq!(c[0], [1.0, 0.0, 1000.0]);
+        assert_eq!(c[1], [2.0, 0.0, 1000.0]);
+        assert_eq!(c[2], [1.0, 1.0, 1000.0]);
+        assert_eq!(c[7], [2.0, 1.0, 1001.0]);
+    }
+
+    #[test]
+    fn inclined_pillar_is_interpolated_at_corner_depth() {
+        let mut g = two_cells(0.0);
+        // Pillar (0,0) leans +x by 10 over its 10 m of depth span.
+        g.coord[[0, 0, 3]] = 10.0;
+        g.coord[[0, 0, 5]] = 10.0;
+        let p = g.point_on_pillar(0, 0, 5.0);
+        assert!((p[0] - 5.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn faults_are_detected_from_shared_corner_depths() {
+        assert!(!two_cells(0.0).i_face_faulted(0, 0, 0));
+        assert_eq!(two_cells(0.0).fault_split_fraction(), 0.0);
+        let g = two_cells(3.0);
+        assert!(g.i_face_faulted(0, 0, 0));
+        assert_eq!(g.fault_split_fraction(), 1.0);
+    }
+
+    #[test]
+    fn mapaxes_rotate_and_translate() {
+        let mut g = two_cells(0.0);
+        // Local x points north, local y points west, origin at (100, 200).
+        g.mapaxes = Some(MapAxes::from_values([
+            90.0, 200.0, 100.0, 200.0, 100.0, 201.0,
+        ]));
+        let c = g.cell_corners(1, 0, 0);
+        assert!((c[1][0] - 100.0).abs() < 1e-9 && (c[1][1] - 202.0).abs() < 1e-9);
+        assert!((c[3][0] - 99.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn active_arrays_expand_onto_cells() {
+        let mut g = two_cells(0.0);
+        g.actnum[[0, 0, 0]] = false;
+        assert_eq!(g.active_index(), vec![None, Some(0)]);
+        let full = g.expand_active(&[7.0]).unwrap();
+        assert!(full[[0, 0, 0]].is_nan() && full[[0, 0, 1]] == 7.0);
+        assert!(g.expand_active(&[1.0, 2.0]).is_none());
+    }
+
+    #[test]
+    fn bad_arrays_are_refused() {
+        let dims = Dims::new(1, 1, 1).unwrap();
+        let err = CornerPointGrid::from_arrays(dims, vec![0.0; 24], vec![0.0; 7], None);
+        assert!(err.unwrap_err().to_string().contains("ZCORN has 7 values"));
+        let mut coord = vec![0.0; 24];
+        coord[4] = f64::NAN;
+        let err = CornerPointGrid::from_arrays(dims, coord, vec![0.0; 8], None);
+        assert!(err.unwrap_err().to_string().contains("pillar 1"));
+        assert!(Dims::new(usize::MAX / 2, 4, 1).is_err());
+    }
+}

@@ -1,0 +1,207 @@
+//! The attributed triangle mesh every other strata crate consumes: positions in the
+//! display frame, global texture coordinates, an optional per-vertex scalar, and, for
+//! meshes made of cell faces, which two triangles form each cell quad.
+
+use serde::Serialize;
+
+/// One cell face (quad) of a structured mesh: its two triangles, the cell it belongs
+/// to and that cell's property value (NaN when no property was chosen).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CellFace {
+    pub triangles: [u32; 2],
+    pub cell: [u32; 3],
+    pub value: f32,
+}
+
+/// A triangle mesh with attributes.
+///
+/// * `positions` are in the display frame (map x, map y, elevation) relative to
+///   `origin`, so that `f32` keeps centimetre precision on UTM-sized coordinates;
+/// * `texcoords` are the global wireframe coordinates: on a structured surface, grid
+///   lines lie on odd values (node `(a, b)` gets `(2a + 1, 2b + 1)`) and cell
+///   interiors on even ones, so they can be interpolated anywhere on the surface;
+/// * `scalars` is empty or holds one value per vertex (for isolines and colour maps);
+/// * `cell_faces` is empty for plain triangle meshes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SurfaceMesh {
+    pub origin: [f64; 3],
+    pub positions: Vec<[f32; 3]>,
+    pub texcoords: Vec<[f32; 2]>,
+    pub scalars: Vec<f32>,
+    pub triangles: Vec<[u32; 3]>,
+    pub cell_faces: Vec<CellFace>,
+}
+
+impl SurfaceMesh {
+    /// An empty mesh whose positions will be relative to `origin`.
+    pub fn with_origin(origin: [f64; 3]) -> Self {
+        SurfaceMesh {
+            origin,
+            ..Default::default()
+        }
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// Checks the invariants: attribute lengths match, indices are in range, cell
+    /// faces name existing triangles.
+    pub fn validate(&self) -> Result<(), String> {
+        let n = self.positions.len();
+        if self.texcoords.len() != n {
+            return Err(format!(
+                "{} texcoords for {n} vertices",
+                self.texcoords.len()
+            ));
+        }
+        if !self.scalars.is_empty() && self.scalars.len() != n {
+            return Err(format!("{} scalars for {n} vertices", self.scalars.len()));
+        }
+        if let Some(t) = self
+            .triangles
+            .iter()
+            .find(|t| t.iter().any(|&v| v as usize >= n))
+        {
+            return Err(format!("triangle {t:?} indexes past {n} vertices"));
+        }
+        let nt = self.triangles.len() as u32;
+        if let Some(f) = self
+            .cell_faces
+            .iter()
+            .find(|f| f.triangles.iter().any(|&t| t >= nt))
+        {
+            return Err(format!("cell face {:?} names a missing triangle", f.cell));
+        }
+        Ok(())
+    }
+
+    /// Per triangle, bit `e` set when edge `e` (from corner `e` to corner `(e + 1) % 3`)
+    /// is a real edge of the model, clear when it is the diagonal that splits a cell
+    /// quad in two. Techniques that draw triangle edges use this so that quad meshes
+    /// show cell edges only.
+    pub fn edge_mask(&self) -> Vec<u8> {
+        let mut mask = vec![0b111u8; self.triangles.len()];
+        for face in &self.cell_faces {
+            let [a, b] = face.triangles.map(|t| self.triangles[t as usize]);
+            for (t, tri, other) in [(face.triangles[0], a, b), (face.triangles[1], b, a)] {
+                for e in 0..3 {
+                    let (u, v) = (tri[e], tri[(e + 1) % 3]);
+                    if other.contains(&u) && other.contains(&v) {
+                        mask[t as usize] &= !(1 << e);
+                    }
+                }
+            }
+        }
+        mask
+    }
+
+    /// Appends `other`, re-expressing its positions relative to this mesh's origin.
+    pub fn append(&mut self, other: &SurfaceMesh) {
+        let base = self.positions.len() as u32;
+        let tbase = self.triangles.len() as u32;
+        let shift: [f32; 3] = std::array::from_fn(|a| (other.origin[a] - self.origin[a]) as f32);
+        self.positions.extend(
+            other
+                .positions
+                .iter()
+                .map(|p| [p[0] + shift[0], p[1] + shift[1], p[2] + shift[2]]),
+        );
+        self.texcoords.extend_from_slice(&other.texcoords);
+        if !self.scalars.is_empty() || !other.scalars.is_empty() {
+            self.scalars.resize(base as usize, f32::NAN);
+            if other.scalars.is_empty() {
+                self.scalars.resize(self.positions.len(), f32::NAN);
+            } else {
+                self.scalars.extend_from_slice(&other.scalars);
+            }
+        }
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|v| v + base)));
+        self.cell_faces
+            .extend(other.cell_faces.iter().map(|f| CellFace {
+                triangles: f.triangles.map(|t| t + tbase),
+                ..*f
+            }));
+    }
+
+    /// Axis-aligned bounds of the positions (relative to `origin`); `None` when empty.
+    pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+        let first = *self.positions.first()?;
+        Some(self.positions.iter().fold((first, first), |(lo, hi), p| {
+            (
+                std::array::from_fn(|a| lo[a].min(p[a])),
+                std::array::from_fn(|a| hi[a].max(p[a])),
+            )
+        }))
+    }
+
+    /// Area of triangle `t`.
+    pub fn triangle_area(&self, t: usize) -> f32 {
+        let [a, b, c] = self.triangles[t].map(|v| self.positions[v as usize]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_quad() -> SurfaceMesh {
+        SurfaceMesh {
+            origin: [0.0; 3],
+            positions: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            texcoords: vec![[1.0, 1.0], [3.0, 1.0], [3.0, 3.0], [1.0, 3.0]],
+            scalars: vec![],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            cell_faces: vec![CellFace {
+                triangles: [0, 1],
+                cell: [0, 0, 0],
+                value: f32::NAN,
+            }],
+        }
+    }
+
+    #[test]
+    fn quad_diagonal_is_masked() {
+        let m = unit_quad();
+        // Triangle 0: edges 0-1, 1-2 real, 2-0 diagonal. Triangle 1: 0-2 diagonal.
+        assert_eq!(m.edge_mask(), vec![0b011, 0b110]);
+        assert!(m.validate().is_ok());
+    }
+
+    #[test]
+    fn append_rebases_positions_and_indices() {
+        let mut a = unit_quad();
+        let mut b = unit_quad();
+        b.origin = [10.0, 0.0, 0.0];
+        b.scalars = vec![1.0; 4];
+        a.append(&b);
+        assert_eq!(a.positions[4], [10.0, 0.0, 0.0]);
+        assert_eq!(a.triangles[2], [4, 5, 6]);
+        assert_eq!(a.cell_faces[1].triangles, [2, 3]);
+        assert!(a.scalars[0].is_nan() && a.scalars[4] == 1.0);
+        assert!(a.validate().is_ok());
+        assert_eq!(a.edge_mask(), vec![0b011, 0b110, 0b011, 0b110]);
+    }
+}
