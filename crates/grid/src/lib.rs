@@ -8,6 +8,8 @@
 pub mod eclbin;
 mod error;
 pub mod grdecl;
+mod surface;
+pub mod synth;
 mod grid;
 mod mesh;
 

@@ -1,0 +1,1 @@
+//! Layer and side surfaces of a grid as attributed triangle meshes.
