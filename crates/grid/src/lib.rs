@@ -8,16 +8,17 @@
 pub mod eclbin;
 mod error;
 pub mod grdecl;
-mod surface;
-pub mod synth;
 mod grid;
 mod mesh;
+pub mod surface;
+pub mod synth;
 
 use std::path::Path;
 
 pub use error::{Error, Result};
 pub use grid::{BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, Units};
 pub use mesh::{CellFace, SurfaceMesh};
+pub use surface::{Face, layer_surface, layer_surfaces, side_surfaces};
 
 /// What to read besides the grid geometry.
 #[derive(Clone, Debug)]

@@ -1,1 +1,569 @@
-//! Layer and side surfaces of a grid as attributed triangle meshes.
+//! Layer and side surfaces of a grid as attributed triangle meshes with global
+//! texture coordinates (Celes & Abraham 2011, section 5, Fig. 11b).
+//!
+//! A layer surface is the top (or bottom) face of every active cell of one layer.
+//! Node `(i, j)` gets texture coordinates `(2i + 1, 2j + 1)`, so every grid line lies
+//! on an odd value. A vertex is shared by the cells around a node only where they are
+//! edge neighbours with the same corner depth there: faults split the surface,
+//! inactive cells leave holes, and faces of pinched-out cells (zero thickness at all
+//! four pillars) or of zero area are dropped.
+//!
+//! Side surfaces are the i and j faces on the outer shell of the active cells and on
+//! fault planes, with coordinates `(2j + 1, 2k + 1)` on i faces and `(2i + 1, 2k + 1)`
+//! on j faces (node levels `k` = top of layer `k`, `k + 1` its bottom).
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use ndarray::Array3;
+use rayon::prelude::*;
+
+use crate::mesh::triangle_area;
+use crate::{CellFace, CornerPointGrid, Dims, Error, Result, SurfaceMesh};
+
+/// Which horizontal face of the cells a layer surface is made of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Face {
+    Top,
+    Bottom,
+}
+
+impl Face {
+    fn dk(self) -> usize {
+        match self {
+            Face::Top => 0,
+            Face::Bottom => 1,
+        }
+    }
+}
+
+/// Faces whose area is below this (m², or squared grid unit) are dropped as degenerate.
+const MIN_FACE_AREA: f32 = 1e-6;
+
+/// The per-cell values of `property`, or an error listing what the grid has.
+fn cell_values<'g>(
+    grid: &'g CornerPointGrid,
+    property: Option<&str>,
+) -> Result<Option<&'g Array3<f32>>> {
+    let Some(name) = property else {
+        return Ok(None);
+    };
+    grid.property(name).map(Some).ok_or_else(|| {
+        let mut names: Vec<&str> = grid.properties.keys().map(String::as_str).collect();
+        if let Some(step) = grid.report_steps.last() {
+            names.extend(step.arrays.keys().map(String::as_str));
+        }
+        Error::Invalid(format!(
+            "no property {name}; the model has: {}",
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(", ")
+            }
+        ))
+    })
+}
+
+/// Is the cell pinched out: zero thickness along all four of its pillars?
+fn is_pinched(grid: &CornerPointGrid, i: usize, j: usize, k: usize) -> bool {
+    (0..4).all(|c| grid.corner_depth(i, j, k, c) == grid.corner_depth(i, j, k, c + 4))
+}
+
+/// The layer surface of layer `k` (0-based). `property` (static or from the last
+/// report step) gives the per-cell values and, averaged onto nodes on each side of a
+/// fault, the per-vertex scalar. Positions are relative to `origin` (display frame,
+/// see [`CornerPointGrid::to_display`]).
+pub fn layer_surface(
+    grid: &CornerPointGrid,
+    k: usize,
+    face: Face,
+    property: Option<&str>,
+    origin: [f64; 3],
+) -> Result<SurfaceMesh> {
+    let Dims { nx, ny, nz } = grid.dims();
+    if k >= nz {
+        return Err(Error::Invalid(format!(
+            "layer {} does not exist: the grid has {nz} layers",
+            k + 1
+        )));
+    }
+    let values = cell_values(grid, property)?;
+    let dk = face.dk();
+    let depth =
+        |i: usize, j: usize, di: usize, dj: usize| grid.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
+    let point = |i: usize, j: usize, di: usize, dj: usize| {
+        let local = grid.point_on_pillar(i + di, j + dj, f64::from(depth(i, j, di, dj)));
+        CornerPointGrid::to_display(origin, grid.to_map(local))
+    };
+
+    // Which cells contribute a face.
+    let kept: Vec<bool> = (0..nx * ny)
+        .into_par_iter()
+        .map(|c| {
+            let (i, j) = (c % nx, c / nx);
+            if !grid.is_active(i, j, k) || is_pinched(grid, i, j, k) {
+                return false;
+            }
+            let [a, b, c, d] = [
+                point(i, j, 0, 0),
+                point(i, j, 1, 0),
+                point(i, j, 1, 1),
+                point(i, j, 0, 1),
+            ];
+            triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA
+        })
+        .collect();
+    let is_kept = |i: isize, j: isize| {
+        i >= 0
+            && j >= 0
+            && (i as usize) < nx
+            && (j as usize) < ny
+            && kept[j as usize * nx + i as usize]
+    };
+
+    let mut mesh = SurfaceMesh::with_origin(origin);
+    // Vertex of each cell corner, laid out like a ZCORN layer: [2 ny][2 nx].
+    let mut corner_vertex = vec![u32::MAX; 4 * nx * ny];
+    for pj in 0..=ny {
+        for pi in 0..=nx {
+            // The up to four cells around the node: SW, SE, NW, NE.
+            let around: [(isize, isize); 4] = [(-1, -1), (0, -1), (-1, 0), (0, 0)]
+                .map(|(a, b)| (pi as isize + a, pj as isize + b));
+            let present = around.map(|(i, j)| is_kept(i, j));
+            let node_depth = |n: usize| {
+                let (i, j) = (around[n].0 as usize, around[n].1 as usize);
+                depth(i, j, pi - i, pj - j)
+            };
+            // Union of edge neighbours that agree on the node's depth.
+            let mut group = [0usize, 1, 2, 3];
+            for (a, b) in [(0, 1), (0, 2), (1, 3), (2, 3)] {
+                if present[a] && present[b] && node_depth(a) == node_depth(b) {
+                    let (ga, gb) = (group[a], group[b]);
+                    for g in group.iter_mut() {
+                        if *g == gb {
+                            *g = ga;
+                        }
+                    }
+                }
+            }
+            let mut vertex_of_group = [u32::MAX; 4];
+            for n in (0..4).filter(|&n| present[n]) {
+                let g = group[n];
+                let (i, j) = (around[n].0 as usize, around[n].1 as usize);
+                let (di, dj) = (pi - i, pj - j);
+                if vertex_of_group[g] == u32::MAX {
+                    vertex_of_group[g] = mesh.positions.len() as u32;
+                    mesh.positions.push(point(i, j, di, dj));
+                    mesh.texcoords
+                        .push([(2 * pi + 1) as f32, (2 * pj + 1) as f32]);
+                    if let Some(v) = values {
+                        let (sum, count) = (0..4)
+                            .filter(|&m| present[m] && group[m] == g)
+                            .map(|m| v[[k, around[m].1 as usize, around[m].0 as usize]])
+                            .filter(|x| !x.is_nan())
+                            .fold((0f64, 0u32), |(s, c), x| (s + f64::from(x), c + 1));
+                        mesh.scalars.push(if count == 0 {
+                            f32::NAN
+                        } else {
+                            (sum / f64::from(count)) as f32
+                        });
+                    }
+                }
+                corner_vertex[(2 * j + dj) * 2 * nx + 2 * i + di] = vertex_of_group[g];
+            }
+        }
+    }
+
+    for j in 0..ny {
+        for i in 0..nx {
+            if !kept[j * nx + i] {
+                continue;
+            }
+            let v = |di: usize, dj: usize| corner_vertex[(2 * j + dj) * 2 * nx + 2 * i + di];
+            let (v00, v10, v11, v01) = (v(0, 0), v(1, 0), v(1, 1), v(0, 1));
+            let t = mesh.triangles.len() as u32;
+            mesh.triangles.push([v00, v10, v11]);
+            mesh.triangles.push([v00, v11, v01]);
+            mesh.cell_faces.push(CellFace {
+                triangles: [t, t + 1],
+                cell: [i as u32, j as u32, k as u32],
+                value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
+            });
+        }
+    }
+    Ok(mesh)
+}
+
+/// The layer surfaces of `layers`, stacked into one mesh (built in parallel).
+pub fn layer_surfaces(
+    grid: &CornerPointGrid,
+    layers: Range<usize>,
+    face: Face,
+    property: Option<&str>,
+    origin: [f64; 3],
+) -> Result<SurfaceMesh> {
+    let meshes = layers
+        .into_par_iter()
+        .map(|k| layer_surface(grid, k, face, property, origin))
+        .collect::<Result<Vec<_>>>()?;
+    let mut all = SurfaceMesh::with_origin(origin);
+    for m in &meshes {
+        all.append(m);
+    }
+    Ok(all)
+}
+
+/// Side faces of the cells of `layers`: every i or j face of an active, non-pinched
+/// cell whose neighbour across it is missing, inactive or pinched, or split from it by
+/// a fault. Fault walls thus show both cells' faces, each with its own wireframe.
+pub fn side_surfaces(
+    grid: &CornerPointGrid,
+    layers: Range<usize>,
+    property: Option<&str>,
+    origin: [f64; 3],
+) -> Result<SurfaceMesh> {
+    let Dims { nx, ny, nz } = grid.dims();
+    if layers.end > nz || layers.is_empty() {
+        return Err(Error::Invalid(format!(
+            "layers {}..{} are not within the grid's 1..{nz}",
+            layers.start + 1,
+            layers.end
+        )));
+    }
+    let values = cell_values(grid, property)?;
+    let mut builder = SideBuilder {
+        grid,
+        origin,
+        mesh: SurfaceMesh::with_origin(origin),
+        vertices: HashMap::new(),
+        sums: Vec::new(),
+        with_scalar: values.is_some(),
+    };
+    let live = |i: usize, j: usize, k: usize| grid.is_active(i, j, k) && !is_pinched(grid, i, j, k);
+    for k in layers {
+        for j in 0..ny {
+            for i in 0..nx {
+                if !live(i, j, k) {
+                    continue;
+                }
+                let value = values.map_or(f32::NAN, |v| v[[k, j, i]]);
+                // West and east faces (on pillar lines i and i + 1).
+                if i == 0 || !live(i - 1, j, k) || grid.i_face_faulted(i - 1, j, k) {
+                    builder.face(Plane::I, i, j, k, 0, value);
+                }
+                if i + 1 == nx || !live(i + 1, j, k) || grid.i_face_faulted(i, j, k) {
+                    builder.face(Plane::I, i, j, k, 1, value);
+                }
+                if j == 0 || !live(i, j - 1, k) || grid.j_face_faulted(i, j - 1, k) {
+                    builder.face(Plane::J, i, j, k, 0, value);
+                }
+                if j + 1 == ny || !live(i, j + 1, k) || grid.j_face_faulted(i, j, k) {
+                    builder.face(Plane::J, i, j, k, 1, value);
+                }
+            }
+        }
+    }
+    Ok(builder.finish())
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum Plane {
+    /// A face on a pillar line of constant i (coordinates from j and k).
+    I,
+    /// A face on a pillar line of constant j (coordinates from i and k).
+    J,
+}
+
+/// Accumulates side faces, sharing vertices between faces of the same plane and
+/// facing whose corners coincide.
+struct SideBuilder<'g> {
+    grid: &'g CornerPointGrid,
+    origin: [f64; 3],
+    mesh: SurfaceMesh,
+    /// (plane, facing side, pillar i, pillar j, node level, depth bits) -> vertex.
+    vertices: HashMap<(Plane, usize, usize, usize, usize, u32), u32>,
+    /// Per vertex: sum and count of the cell values around it.
+    sums: Vec<(f64, u32)>,
+    with_scalar: bool,
+}
+
+impl SideBuilder<'_> {
+    /// Adds the face of cell `(i, j, k)` on its `side` (0: low, 1: high) of `plane`.
+    fn face(&mut self, plane: Plane, i: usize, j: usize, k: usize, side: usize, value: f32) {
+        // Corners (along, level): along runs over the face's two pillars.
+        let corner = |along: usize, dk: usize| match plane {
+            Plane::I => side + 2 * along + 4 * dk,
+            Plane::J => along + 2 * side + 4 * dk,
+        };
+        let mut ids = [0u32; 4];
+        let mut pts = [[0f32; 3]; 4];
+        for (n, (along, dk)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
+            let c = corner(along, dk);
+            let (pi, pj) = (i + (c & 1), j + ((c >> 1) & 1));
+            let depth = self.grid.corner_depth(i, j, k, c);
+            let key = (plane, side, pi, pj, k + dk, depth.to_bits());
+            let point = CornerPointGrid::to_display(
+                self.origin,
+                self.grid
+                    .to_map(self.grid.point_on_pillar(pi, pj, f64::from(depth))),
+            );
+            pts[n] = point;
+            let along_node = if plane == Plane::I { pj } else { pi };
+            let next = self.mesh.positions.len() as u32;
+            let id = *self.vertices.entry(key).or_insert(next);
+            if id == next {
+                self.mesh.positions.push(point);
+                self.mesh
+                    .texcoords
+                    .push([(2 * along_node + 1) as f32, (2 * (k + dk) + 1) as f32]);
+                self.sums.push((0.0, 0));
+            }
+            if !value.is_nan() {
+                let s = &mut self.sums[id as usize];
+                s.0 += f64::from(value);
+                s.1 += 1;
+            }
+            ids[n] = id;
+        }
+        if triangle_area(pts[0], pts[1], pts[2]) + triangle_area(pts[0], pts[2], pts[3])
+            < MIN_FACE_AREA
+        {
+            return;
+        }
+        let t = self.mesh.triangles.len() as u32;
+        self.mesh.triangles.push([ids[0], ids[1], ids[2]]);
+        self.mesh.triangles.push([ids[0], ids[2], ids[3]]);
+        self.mesh.cell_faces.push(CellFace {
+            triangles: [t, t + 1],
+            cell: [i as u32, j as u32, k as u32],
+            value,
+        });
+    }
+
+    fn finish(mut self) -> SurfaceMesh {
+        if self.with_scalar {
+            self.mesh.scalars = self
+                .sums
+                .iter()
+                .map(|&(s, c)| {
+                    if c == 0 {
+                        f32::NAN
+                    } else {
+                        (s / f64::from(c)) as f32
+                    }
+                })
+                .collect();
+        }
+        self.mesh
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::HashMap;
+
+    use super::*;
+    use crate::synth::{SynthParams, generate};
+
+    fn faulted() -> CornerPointGrid {
+        generate(&SynthParams {
+            nx: 24,
+            ny: 18,
+            nz: 5,
+            faults: 4,
+            seed: 11,
+        })
+        .unwrap()
+    }
+
+    /// Kept cells of layer k: active and not pinched.
+    fn kept(g: &CornerPointGrid, i: usize, j: usize, k: usize) -> bool {
+        g.is_active(i, j, k) && !is_pinched(g, i, j, k)
+    }
+
+    #[test]
+    fn texcoords_are_global_odd_values_at_every_corner() {
+        let g = faulted();
+        let origin = g.display_origin();
+        for k in 0..g.dims().nz {
+            let m = layer_surface(&g, k, Face::Top, Some("PORO"), origin).unwrap();
+            m.validate().unwrap();
+            assert_eq!(m.scalars.len(), m.vertex_count());
+            for f in &m.cell_faces {
+                let [i, j, _] = f.cell.map(|c| c as usize);
+                let [a, b] = f.triangles.map(|t| m.triangles[t as usize]);
+                // [v00, v10, v11] and [v00, v11, v01]
+                let corners = [(a[0], 0, 0), (a[1], 1, 0), (a[2], 1, 1), (b[2], 0, 1)];
+                for (v, di, dj) in corners {
+                    let tc = m.texcoords[v as usize];
+                    assert_eq!(tc, [(2 * (i + di) + 1) as f32, (2 * (j + dj) + 1) as f32]);
+                    let want =
+                        CornerPointGrid::to_display(origin, g.cell_corners(i, j, k)[di + 2 * dj]);
+                    let got = m.positions[v as usize];
+                    assert!(
+                        (0..3).all(|a| (got[a] - want[a]).abs() < 1e-3),
+                        "{got:?} vs {want:?}"
+                    );
+                }
+                assert_eq!(f.value, g.property("PORO").unwrap()[[k, j, i]]);
+            }
+        }
+    }
+
+    #[test]
+    fn holes_and_pinchouts_leave_no_faces() {
+        let g = faulted();
+        let d = g.dims();
+        let mut saw_hole = false;
+        let mut saw_pinch = false;
+        for k in 0..d.nz {
+            let m = layer_surface(&g, k, Face::Top, None, [0.0; 3]).unwrap();
+            let faces: Vec<[u32; 3]> = m.cell_faces.iter().map(|f| f.cell).collect();
+            for j in 0..d.ny {
+                for i in 0..d.nx {
+                    let has = faces.contains(&[i as u32, j as u32, k as u32]);
+                    assert_eq!(has, kept(&g, i, j, k), "cell {i},{j},{k}");
+                    saw_hole |= !g.is_active(i, j, k);
+                    saw_pinch |= g.is_active(i, j, k) && is_pinched(&g, i, j, k);
+                }
+            }
+            assert_eq!(m.triangle_count(), 2 * m.cell_faces.len());
+        }
+        assert!(
+            saw_hole && saw_pinch,
+            "the generator must build holes and pinch-outs"
+        );
+    }
+
+    #[test]
+    fn faults_split_vertices_and_blocks_are_watertight() {
+        let g = faulted();
+        let d = g.dims();
+        let k = 1;
+        let m = layer_surface(&g, k, Face::Top, None, [0.0; 3]).unwrap();
+        // Vertex of each (cell, corner).
+        let mut corner_vertex = HashMap::new();
+        for f in &m.cell_faces {
+            let [a, b] = f.triangles.map(|t| m.triangles[t as usize]);
+            let (i, j) = (f.cell[0] as usize, f.cell[1] as usize);
+            for (v, di, dj) in [(a[0], 0, 0), (a[1], 1, 0), (a[2], 1, 1), (b[2], 0, 1)] {
+                corner_vertex.insert((i, j, di, dj), v);
+            }
+        }
+        let mut splits = 0;
+        for j in 0..d.ny {
+            for i in 0..d.nx - 1 {
+                if !(kept(&g, i, j, k) && kept(&g, i + 1, j, k)) {
+                    continue;
+                }
+                for dj in 0..2 {
+                    let same_depth =
+                        g.corner_depth(i, j, k, 1 + 2 * dj) == g.corner_depth(i + 1, j, k, 2 * dj);
+                    let shared = corner_vertex[&(i, j, 1, dj)] == corner_vertex[&(i + 1, j, 0, dj)];
+                    assert_eq!(
+                        shared,
+                        same_depth,
+                        "node ({}, {}) between cells {i} and {}",
+                        i + 1,
+                        j + dj,
+                        i + 1
+                    );
+                    splits += usize::from(!same_depth);
+                }
+            }
+        }
+        assert!(splits > 0, "the generated faults must split the layer");
+
+        // Every edge used once lies on the model's border, next to a missing cell or
+        // on a faulted face: inside a fault block the surface is closed.
+        let mut uses: HashMap<(u32, u32), usize> = HashMap::new();
+        for t in &m.triangles {
+            for e in 0..3 {
+                let (a, b) = (t[e], t[(e + 1) % 3]);
+                *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        assert!(uses.values().all(|&n| n <= 2), "non-manifold edge");
+        for f in &m.cell_faces {
+            let (i, j) = (f.cell[0] as usize, f.cell[1] as usize);
+            let v = |di, dj| corner_vertex[&(i, j, di, dj)];
+            let edge = |a: u32, b: u32| uses[&(a.min(b), a.max(b))];
+            let east_open = i + 1 == d.nx || !kept(&g, i + 1, j, k) || g.i_face_faulted(i, j, k);
+            let north_open = j + 1 == d.ny || !kept(&g, i, j + 1, k) || g.j_face_faulted(i, j, k);
+            if !east_open {
+                assert_eq!(
+                    edge(v(1, 0), v(1, 1)),
+                    2,
+                    "east edge of cell {i},{j} is open"
+                );
+            }
+            if !north_open {
+                assert_eq!(
+                    edge(v(0, 1), v(1, 1)),
+                    2,
+                    "north edge of cell {i},{j} is open"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn stacked_layers_and_sides_carry_their_coordinates() {
+        let g = faulted();
+        let d = g.dims();
+        let origin = g.display_origin();
+        let all = layer_surfaces(&g, 0..d.nz, Face::Top, Some("PERMX"), origin).unwrap();
+        let sum: usize = (0..d.nz)
+            .map(|k| {
+                layer_surface(&g, k, Face::Top, None, origin)
+                    .unwrap()
+                    .triangle_count()
+            })
+            .sum();
+        assert_eq!(all.triangle_count(), sum);
+        all.validate().unwrap();
+
+        let sides = side_surfaces(&g, 0..d.nz, Some("PORO"), origin).unwrap();
+        sides.validate().unwrap();
+        assert!(!sides.is_empty());
+        for f in &sides.cell_faces {
+            let [i, j, k] = f.cell.map(|c| c as usize);
+            for t in f.triangles {
+                for v in sides.triangles[t as usize] {
+                    let [s, t] = sides.texcoords[v as usize];
+                    // The level coordinate is the cell's top (2k + 1) or bottom (2k + 3).
+                    assert!(t == (2 * k + 1) as f32 || t == (2 * k + 3) as f32);
+                    // The other is odd and belongs to one of the face's two pillars.
+                    let odd = [
+                        (2 * i + 1) as f32,
+                        (2 * i + 3) as f32,
+                        (2 * j + 1) as f32,
+                        (2 * j + 3) as f32,
+                    ];
+                    assert!(odd.contains(&s), "side coordinate {s} of cell {i},{j},{k}");
+                }
+            }
+        }
+        // The outer shell alone: an unfaulted, fully active box (two layers, so no
+        // pinch-out) has 2 (nx + ny) nz side faces.
+        let mut plain = generate(&SynthParams {
+            nx: 6,
+            ny: 4,
+            nz: 2,
+            faults: 0,
+            seed: 1,
+        })
+        .unwrap();
+        plain.actnum.fill(true);
+        let shell = side_surfaces(&plain, 0..2, None, [0.0; 3]).unwrap();
+        assert_eq!(shell.cell_faces.len(), 2 * (6 + 4) * 2);
+    }
+
+    #[test]
+    fn unknown_property_lists_the_available_ones() {
+        let g = faulted();
+        let err = layer_surface(&g, 0, Face::Top, Some("SWAT"), [0.0; 3]).unwrap_err();
+        assert!(err.to_string().contains("PERMX, PORO"), "{err}");
+        assert!(layer_surface(&g, 9, Face::Top, None, [0.0; 3]).is_err());
+    }
+}
