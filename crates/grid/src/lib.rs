@@ -18,6 +18,8 @@ use std::path::Path;
 pub use error::{Error, Result};
 pub use grid::{BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, Units};
 pub use mesh::{CellFace, SurfaceMesh};
+/// The array crate of the public API (grid arrays are `ndarray::Array3`).
+pub use ndarray;
 pub use surface::{Face, layer_surface, layer_surfaces, side_surfaces};
 
 /// What to read besides the grid geometry.

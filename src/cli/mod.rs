@@ -1,0 +1,4 @@
+//! One module per subcommand of the `strata` binary.
+
+pub mod info;
+pub mod synth;
