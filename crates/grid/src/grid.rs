@@ -500,9 +500,9 @@ impl BoundingBox {
     }
 
     pub fn include(&mut self, p: [f64; 3]) {
-        for a in 0..3 {
-            self.min[a] = self.min[a].min(p[a]);
-            self.max[a] = self.max[a].max(p[a]);
+        for (a, v) in p.into_iter().enumerate() {
+            self.min[a] = self.min[a].min(v);
+            self.max[a] = self.max[a].max(v);
         }
     }
 

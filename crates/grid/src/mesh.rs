@@ -41,6 +41,37 @@ impl SurfaceMesh {
         }
     }
 
+    /// A structured surface of `ni` x `nj` cells whose node `(i, j)` lies at
+    /// `position(i, j)`, with the global coordinates `(2i + 1, 2j + 1)`, each cell face
+    /// split along its `(i, j)`-`(i + 1, j + 1)` diagonal as layer surfaces are.
+    /// For tests, examples and benchmarks that need a grid without a reservoir model.
+    pub fn structured(ni: usize, nj: usize, position: impl Fn(usize, usize) -> [f32; 3]) -> Self {
+        let mut mesh = SurfaceMesh::default();
+        for j in 0..=nj {
+            for i in 0..=ni {
+                mesh.positions.push(position(i, j));
+                mesh.texcoords
+                    .push([(2 * i + 1) as f32, (2 * j + 1) as f32]);
+            }
+        }
+        let node = |i: usize, j: usize| (j * (ni + 1) + i) as u32;
+        for j in 0..nj {
+            for i in 0..ni {
+                let t = mesh.triangles.len() as u32;
+                mesh.triangles
+                    .push([node(i, j), node(i + 1, j), node(i + 1, j + 1)]);
+                mesh.triangles
+                    .push([node(i, j), node(i + 1, j + 1), node(i, j + 1)]);
+                mesh.cell_faces.push(CellFace {
+                    triangles: [t, t + 1],
+                    cell: [i as u32, j as u32, 0],
+                    value: f32::NAN,
+                });
+            }
+        }
+        mesh
+    }
+
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
@@ -185,6 +216,18 @@ mod tests {
                 value: f32::NAN,
             }],
         }
+    }
+
+    #[test]
+    fn structured_grid_has_global_coordinates() {
+        let m = SurfaceMesh::structured(3, 2, |i, j| [i as f32, j as f32, 0.0]);
+        m.validate().unwrap();
+        assert_eq!(
+            (m.vertex_count(), m.triangle_count(), m.cell_faces.len()),
+            (12, 12, 6)
+        );
+        assert_eq!(m.texcoords[5], [3.0, 3.0]);
+        assert!(m.edge_mask().iter().all(|&e| e.count_ones() == 2));
     }
 
     #[test]

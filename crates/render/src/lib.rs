@@ -1,1 +1,27 @@
-//! strata-render: wgpu rendering of strata surfaces (see DESIGN.md section 3).
+//! strata-render: wgpu rendering of strata surfaces with texture-based wireframes
+//! (Celes & Abraham) and the techniques they are measured against (DESIGN.md
+//! section 3). Headless by default; frames come back as RGBA pixels and PNG files.
+
+mod camera;
+mod error;
+mod gpu;
+mod renderer;
+mod style;
+pub mod wire;
+
+pub use camera::Camera;
+pub use error::{Error, Result};
+/// The vector crate of the public API (cameras and bounds are `glam` types).
+pub use glam;
+pub use gpu::Gpu;
+pub use renderer::{Renderer, View};
+pub use style::{Colormap, Coverage, Style, parse_color, wire_mode_names};
+pub use wire::{Attenuation, WireMode};
+
+/// Writes pixels as a PNG file.
+pub fn save_png(image: &image::RgbaImage, path: &std::path::Path) -> Result<()> {
+    image.save(path).map_err(|e| Error::Output {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}

@@ -1,0 +1,154 @@
+//! The camera: look-at and orbit, fitting to a bounding box, vertical exaggeration,
+//! and a depth range fitted to the scene so that far cells keep depth precision.
+//!
+//! Positions are in the display frame of strata-grid (x east, y north, z up,
+//! relative to a mesh origin). Vertical exaggeration scales z before viewing.
+//! Projection uses reversed depth (near = 1, far = 0) with a 32-bit float buffer,
+//! the arrangement with the most uniform precision.
+
+use glam::{Mat4, Vec3};
+
+/// A perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: f32,
+    /// Vertical exaggeration applied to z before viewing.
+    pub z_scale: f32,
+}
+
+impl Camera {
+    /// A camera at `eye` looking at `target`.
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3) -> Self {
+        Camera {
+            eye,
+            target,
+            up,
+            fov_y_deg: 35.0,
+            z_scale: 1.0,
+        }
+    }
+
+    /// A camera orbiting `target` at `distance`: azimuth in degrees clockwise from
+    /// north (0: looking north from the south), elevation in degrees above the horizon
+    /// (90: map view, north up).
+    pub fn orbit(target: Vec3, azimuth_deg: f32, elevation_deg: f32, distance: f32) -> Self {
+        let (az, el) = (
+            azimuth_deg.to_radians(),
+            elevation_deg.clamp(-89.9, 89.9).to_radians(),
+        );
+        let dir = Vec3::new(-az.sin() * el.cos(), -az.cos() * el.cos(), el.sin());
+        // Near the zenith, "up" on screen is the horizontal viewing direction.
+        let up = Vec3::new(az.sin(), az.cos(), 0.0);
+        let up = if el.cos() < 1e-3 { up } else { Vec3::Z };
+        Camera::look_at(target + dir * distance, target, up)
+    }
+
+    /// An orbit camera that fits the box `[min, max]` (unscaled display frame) in view,
+    /// with vertical exaggeration `z_scale`; `distance_factor` 1 frames it tightly.
+    pub fn fit(
+        min: Vec3,
+        max: Vec3,
+        z_scale: f32,
+        azimuth_deg: f32,
+        elevation_deg: f32,
+        distance_factor: f32,
+    ) -> Self {
+        let scale = Vec3::new(1.0, 1.0, z_scale);
+        let (lo, hi) = (min * scale, max * scale);
+        let centre = 0.5 * (lo + hi);
+        let radius = 0.5 * (hi - lo).length().max(1e-6);
+        let fov = 35f32;
+        let distance = radius / (0.5 * fov.to_radians()).sin() * distance_factor;
+        let mut c = Camera::orbit(centre, azimuth_deg, elevation_deg, distance);
+        c.fov_y_deg = fov;
+        c.z_scale = z_scale;
+        c
+    }
+
+    /// The world transform applied before viewing: vertical exaggeration.
+    pub fn model(&self) -> Mat4 {
+        Mat4::from_scale(Vec3::new(1.0, 1.0, self.z_scale))
+    }
+
+    pub fn view(&self) -> Mat4 {
+        glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
+    }
+
+    /// Reversed-depth perspective projection between `near` and `far` (distances along
+    /// the view direction).
+    pub fn projection(&self, aspect: f32, near: f32, far: f32) -> Mat4 {
+        // Swapping near and far of the WebGPU (0..1 depth) projection reverses depth.
+        glam::camera::rh::proj::directx::perspective(self.fov_y_deg.to_radians(), aspect, far, near)
+    }
+
+    /// Near and far distances that enclose the box `[min, max]` (unscaled display
+    /// frame) with a small margin; the near plane never goes closer than 1/10000 of
+    /// the far one, so depth precision stays usable when the eye is inside the box.
+    pub fn depth_range(&self, min: Vec3, max: Vec3) -> (f32, f32) {
+        let to_view = self.view() * self.model();
+        let (mut near, mut far) = (f32::INFINITY, 0f32);
+        for c in 0..8 {
+            let p = Vec3::new(
+                if c & 1 == 0 { min.x } else { max.x },
+                if c & 2 == 0 { min.y } else { max.y },
+                if c & 4 == 0 { min.z } else { max.z },
+            );
+            let d = -to_view.transform_point3(p).z;
+            near = near.min(d);
+            far = far.max(d);
+        }
+        let far = (far * 1.02).max(1e-3);
+        ((near * 0.98).max(far * 1e-4), far)
+    }
+
+    /// Clip transform of the scene: projection x view x model.
+    pub fn view_proj(&self, aspect: f32, near: f32, far: f32) -> Mat4 {
+        self.projection(aspect, near, far) * self.view() * self.model()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orbit_azimuth_and_elevation() {
+        let c = Camera::orbit(Vec3::ZERO, 0.0, 0.0, 10.0);
+        assert!((c.eye - Vec3::new(0.0, -10.0, 0.0)).length() < 1e-4);
+        let c = Camera::orbit(Vec3::ZERO, 90.0, 0.0, 10.0);
+        assert!((c.eye - Vec3::new(-10.0, 0.0, 0.0)).length() < 1e-4);
+        let top = Camera::orbit(Vec3::ZERO, 0.0, 90.0, 10.0);
+        assert!(top.eye.z > 9.99);
+        // Map view: north is up on screen.
+        let ndc = top
+            .view_proj(1.0, 1.0, 20.0)
+            .project_point3(Vec3::new(0.0, 1.0, 0.0));
+        assert!(ndc.y > 0.0 && ndc.x.abs() < 1e-4);
+    }
+
+    #[test]
+    fn fit_keeps_the_box_in_view_and_depth_range_encloses_it() {
+        let (lo, hi) = (
+            Vec3::new(-500.0, -300.0, -50.0),
+            Vec3::new(500.0, 300.0, 50.0),
+        );
+        let c = Camera::fit(lo, hi, 5.0, 30.0, 35.0, 1.0);
+        let (near, far) = c.depth_range(lo, hi);
+        assert!(near > 0.0 && far > near);
+        let vp = c.view_proj(1.0, near, far);
+        for corner in 0..8 {
+            let p = Vec3::new(
+                if corner & 1 == 0 { lo.x } else { hi.x },
+                if corner & 2 == 0 { lo.y } else { hi.y },
+                if corner & 4 == 0 { lo.z } else { hi.z },
+            );
+            let ndc = vp.project_point3(p);
+            assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0, "{p} -> {ndc}");
+            assert!((0.0..=1.0).contains(&ndc.z), "depth {}", ndc.z);
+        }
+    }
+}

@@ -1,0 +1,545 @@
+//! Frames: the shared uniforms and textures, targets, and readback to RGBA pixels.
+
+use std::collections::HashMap;
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+use image::RgbaImage;
+use strata_grid::SurfaceMesh;
+
+use crate::wire::{
+    self, COLOR_FORMAT, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique, WireMode,
+    WireTextureSpec,
+};
+use crate::{Camera, Colormap, Coverage, Error, Gpu, Result, Style};
+
+/// What to look at: camera, image size, and the scene's bounds (unscaled display
+/// frame) from which the depth range is fitted.
+#[derive(Clone, Copy, Debug)]
+pub struct View {
+    pub camera: Camera,
+    pub width: u32,
+    pub height: u32,
+    pub bounds: (Vec3, Vec3),
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FrameUniforms {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    light: [f32; 4],
+    wire_color: [f32; 4],
+    solid_color: [f32; 4],
+    viewport: [f32; 4],
+    line: [f32; 4],
+    atten: [f32; 4],
+    scalar: [f32; 4],
+}
+
+impl FrameUniforms {
+    fn new(view: &View, style: &Style, layers: u32) -> Self {
+        let cam = &view.camera;
+        let (near, far) = cam.depth_range(view.bounds.0, view.bounds.1);
+        let aspect = view.width as f32 / view.height.max(1) as f32;
+        // Light from behind the viewer's right shoulder and above.
+        let forward = (cam.target - cam.eye).normalize_or(Vec3::NEG_Z);
+        let right = forward.cross(cam.up).normalize_or(Vec3::X);
+        let light = (-forward + 0.4 * right + 0.6 * cam.up).normalize_or(Vec3::Z);
+        // Attenuation spans the scene's depth as seen from the eye.
+        let (a_near, a_far) = (near, far.max(near * 1.0001));
+        let (smin, sinv, by_scalar) = match style.scalar_range {
+            Some((lo, hi)) => (lo, 1.0 / (hi - lo).max(f32::MIN_POSITIVE), 1.0),
+            None => (0.0, 0.0, 0.0),
+        };
+        FrameUniforms {
+            view_proj: cam.view_proj(aspect, near, far).to_cols_array_2d(),
+            eye: [cam.eye.x, cam.eye.y, cam.eye.z, cam.z_scale],
+            light: [light.x, light.y, light.z, 0.35],
+            wire_color: style.wire_color,
+            solid_color: style.solid_color,
+            viewport: [
+                view.width as f32,
+                view.height as f32,
+                1.0 / view.width as f32,
+                1.0 / view.height as f32,
+            ],
+            line: [
+                style.thickness,
+                style.cap,
+                if style.coverage == Coverage::Analytic {
+                    1.0
+                } else {
+                    0.0
+                },
+                if style.isolation { 1.0 } else { 0.0 },
+            ],
+            atten: [
+                a_near,
+                1.0 / (a_far - a_near),
+                style.attenuation.code(),
+                layers as f32,
+            ],
+            scalar: [smin, sinv, by_scalar, 0.0],
+        }
+    }
+}
+
+struct Targets {
+    width: u32,
+    height: u32,
+    color: wgpu::Texture,
+    color_view: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+    readback: wgpu::Buffer,
+    padded_row: u32,
+}
+
+/// Draws prepared meshes into offscreen frames.
+pub struct Renderer {
+    pub gpu: Gpu,
+    frame_layout: wgpu::BindGroupLayout,
+    uniforms: wgpu::Buffer,
+    wire_sampler: wgpu::Sampler,
+    colormap_sampler: wgpu::Sampler,
+    wire_spec: WireTextureSpec,
+    wire_view: wgpu::TextureView,
+    colormap: Colormap,
+    colormap_view: wgpu::TextureView,
+    bind_group: wgpu::BindGroup,
+    techniques: HashMap<WireMode, Box<dyn Technique>>,
+    targets: Option<Targets>,
+}
+
+impl Renderer {
+    pub fn new(gpu: Gpu) -> Result<Self> {
+        let device = &gpu.device;
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                texture_entry(1, wgpu::TextureViewDimension::D2Array),
+                sampler_entry(2),
+                texture_entry(3, wgpu::TextureViewDimension::D2),
+                sampler_entry(4),
+            ],
+        });
+        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniforms"),
+            size: std::mem::size_of::<FrameUniforms>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        // Mirrored repeat puts a line at every odd coordinate (global, quad) and
+        // behaves as clamping on [0, 1] (tex, texgs).
+        let wire_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("wireframe"),
+            address_mode_u: wgpu::AddressMode::MirrorRepeat,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let colormap_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("colour map"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let wire_spec = WireTextureSpec::default();
+        let wire_view =
+            wire_spec
+                .upload(device, &gpu.queue)
+                .create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                });
+        let colormap = Colormap::default();
+        let colormap_view = upload_colormap(&gpu, colormap);
+        let bind_group = make_bind_group(
+            &gpu,
+            &frame_layout,
+            &uniforms,
+            &wire_view,
+            &wire_sampler,
+            &colormap_view,
+            &colormap_sampler,
+        );
+        Ok(Renderer {
+            gpu,
+            frame_layout,
+            uniforms,
+            wire_sampler,
+            colormap_sampler,
+            wire_spec,
+            wire_view,
+            colormap,
+            colormap_view,
+            bind_group,
+            techniques: HashMap::new(),
+            targets: None,
+        })
+    }
+
+    /// Opens the best adapter (see [`Gpu::new`]) and a renderer on it.
+    pub fn headless() -> Result<Self> {
+        Self::new(Gpu::new()?)
+    }
+
+    /// Uploads `mesh` for drawing with `mode` (retained mode).
+    pub fn prepare(&mut self, mesh: &SurfaceMesh, mode: WireMode) -> Result<Box<dyn Drawable>> {
+        self.ensure_technique(mode);
+        let technique = &self.techniques[&mode];
+        let scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let prepared = technique.prepare(&self.gpu, mesh);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        prepared
+    }
+
+    /// Creates the technique of `mode` on first use.
+    fn ensure_technique(&mut self, mode: WireMode) {
+        if !self.techniques.contains_key(&mode) {
+            let ctx = PipelineContext {
+                gpu: &self.gpu,
+                frame_layout: &self.frame_layout,
+            };
+            let technique = wire::create(mode, &ctx);
+            self.techniques.insert(mode, technique);
+        }
+    }
+
+    /// Makes the shared textures match `style` and writes the frame uniforms.
+    fn set_frame(&mut self, view: &View, style: &Style) -> Result<()> {
+        if view.width == 0 || view.height == 0 {
+            return Err(Error::Invalid(format!(
+                "image size {}x{} is empty",
+                view.width, view.height
+            )));
+        }
+        if !(style.thickness >= 0.5 && style.thickness.is_finite()) {
+            return Err(Error::Invalid(format!(
+                "line thickness {} is below 0.5 px",
+                style.thickness
+            )));
+        }
+        let spec = WireTextureSpec {
+            width: style
+                .texture_width
+                .next_power_of_two()
+                .clamp(1, self.gpu.limits.max_texture_dimension_2d),
+            thickness: style.thickness,
+            cap: style.cap,
+            attenuation: style.attenuation,
+        };
+        let mut rebind = false;
+        if spec != self.wire_spec {
+            self.wire_spec = spec;
+            self.wire_view = spec.upload(&self.gpu.device, &self.gpu.queue).create_view(
+                &wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2Array),
+                    ..Default::default()
+                },
+            );
+            rebind = true;
+        }
+        if style.colormap != self.colormap {
+            self.colormap = style.colormap;
+            self.colormap_view = upload_colormap(&self.gpu, style.colormap);
+            rebind = true;
+        }
+        if rebind {
+            self.bind_group = make_bind_group(
+                &self.gpu,
+                &self.frame_layout,
+                &self.uniforms,
+                &self.wire_view,
+                &self.wire_sampler,
+                &self.colormap_view,
+                &self.colormap_sampler,
+            );
+        }
+        let uniforms = FrameUniforms::new(view, style, spec.layers());
+        self.gpu
+            .queue
+            .write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&uniforms));
+        if self
+            .targets
+            .as_ref()
+            .is_none_or(|t| t.width != view.width || t.height != view.height)
+        {
+            self.targets = Some(make_targets(&self.gpu, view.width, view.height));
+        }
+        Ok(())
+    }
+
+    /// Records a frame: clear, then every item. The caller submits.
+    fn encode_frame(
+        &mut self,
+        items: &[&dyn Drawable],
+        view: &View,
+        style: &Style,
+    ) -> Result<wgpu::CommandEncoder> {
+        self.set_frame(view, style)?;
+        let targets = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("no render targets".into()))?;
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        let [r, g, b, a] = style.background.map(f64::from);
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("clear"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &targets.color_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &targets.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let frame = FrameTargets {
+            color: &targets.color_view,
+            depth: &targets.depth_view,
+            frame_bind_group: &self.bind_group,
+            width: view.width,
+            height: view.height,
+        };
+        for item in items {
+            item.encode(&frame, &mut encoder);
+        }
+        Ok(encoder)
+    }
+
+    /// Draws a frame and waits for it, without reading it back (for timing).
+    pub fn draw(&mut self, items: &[&dyn Drawable], view: &View, style: &Style) -> Result<()> {
+        let encoder = self.encode_frame(items, view, style)?;
+        self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.wait()
+    }
+
+    /// Draws a frame and returns its pixels (RGBA8, rows top to bottom).
+    pub fn render(
+        &mut self,
+        items: &[&dyn Drawable],
+        view: &View,
+        style: &Style,
+    ) -> Result<RgbaImage> {
+        let scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = self.encode_frame(items, view, style)?;
+        let targets = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("no render targets".into()))?;
+        encoder.copy_texture_to_buffer(
+            targets.color.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &targets.readback,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(targets.padded_row),
+                    rows_per_image: Some(targets.height),
+                },
+            },
+            wgpu::Extent3d {
+                width: targets.width,
+                height: targets.height,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.gpu.queue.submit([encoder.finish()]);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        let slice = targets.readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.gpu.wait()?;
+        rx.recv()
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .map_err(|e| Error::Gpu(e.to_string()))?;
+        let (w, h, row) = (
+            targets.width as usize,
+            targets.height as usize,
+            targets.padded_row as usize,
+        );
+        let mut pixels = Vec::with_capacity(w * h * 4);
+        {
+            let data = slice
+                .get_mapped_range()
+                .map_err(|e| Error::Gpu(e.to_string()))?;
+            for y in 0..h {
+                pixels.extend_from_slice(&data[y * row..y * row + 4 * w]);
+            }
+        }
+        targets.readback.unmap();
+        RgbaImage::from_raw(targets.width, targets.height, pixels)
+            .ok_or_else(|| Error::Gpu("readback size mismatch".into()))
+    }
+}
+
+fn texture_entry(binding: u32, dim: wgpu::TextureViewDimension) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: dim,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+        count: None,
+    }
+}
+
+fn make_bind_group(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    uniforms: &wgpu::Buffer,
+    wire_view: &wgpu::TextureView,
+    wire_sampler: &wgpu::Sampler,
+    colormap_view: &wgpu::TextureView,
+    colormap_sampler: &wgpu::Sampler,
+) -> wgpu::BindGroup {
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("frame"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniforms.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(wire_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(wire_sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(colormap_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::Sampler(colormap_sampler),
+            },
+        ],
+    })
+}
+
+fn upload_colormap(gpu: &Gpu, colormap: Colormap) -> wgpu::TextureView {
+    let size = wgpu::Extent3d {
+        width: 256,
+        height: 1,
+        depth_or_array_layers: 1,
+    };
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("colour map"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        &colormap.table(),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(1024),
+            rows_per_image: Some(1),
+        },
+        size,
+    );
+    texture.create_view(&Default::default())
+}
+
+fn make_targets(gpu: &Gpu, width: u32, height: u32) -> Targets {
+    let size = wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: 1,
+    };
+    let target = |format, usage| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("frame target"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let color = target(
+        COLOR_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let depth = target(
+        DEPTH_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+    );
+    let padded_row = (4 * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: u64::from(padded_row) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    Targets {
+        width,
+        height,
+        color_view: color.create_view(&Default::default()),
+        color,
+        depth_view: depth.create_view(&Default::default()),
+        readback,
+        padded_row,
+    }
+}

@@ -1,0 +1,162 @@
+//! How a frame looks: line style, colours, colour map.
+
+use crate::wire::{Attenuation, WireMode};
+
+/// How line coverage is computed in the fragment shader (DESIGN.md section 3): from
+/// the mip-mapped wireframe texture, or analytically from the coordinate's gradient.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Coverage {
+    #[default]
+    Texture,
+    Analytic,
+}
+
+/// Colour maps for properties (from the `colorous` crate).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Colormap {
+    #[default]
+    Viridis,
+    Turbo,
+    Cividis,
+    Magma,
+    Inferno,
+    Plasma,
+    Spectral,
+}
+
+impl Colormap {
+    pub const ALL: [(&'static str, Colormap); 7] = [
+        ("viridis", Colormap::Viridis),
+        ("turbo", Colormap::Turbo),
+        ("cividis", Colormap::Cividis),
+        ("magma", Colormap::Magma),
+        ("inferno", Colormap::Inferno),
+        ("plasma", Colormap::Plasma),
+        ("spectral", Colormap::Spectral),
+    ];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|&(_, c)| c)
+    }
+
+    /// 256 RGBA8 entries.
+    pub fn table(self) -> Vec<u8> {
+        let g = match self {
+            Colormap::Viridis => colorous::VIRIDIS,
+            Colormap::Turbo => colorous::TURBO,
+            Colormap::Cividis => colorous::CIVIDIS,
+            Colormap::Magma => colorous::MAGMA,
+            Colormap::Inferno => colorous::INFERNO,
+            Colormap::Plasma => colorous::PLASMA,
+            Colormap::Spectral => colorous::SPECTRAL,
+        };
+        (0..256)
+            .flat_map(|i| {
+                let c = g.eval_rational(i, 256);
+                [c.r, c.g, c.b, 255]
+            })
+            .collect()
+    }
+}
+
+/// Everything about a frame's look that is not geometry or camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Style {
+    /// Line thickness in pixels (σ).
+    pub thickness: f32,
+    pub wire_color: [f32; 4],
+    pub attenuation: Attenuation,
+    pub coverage: Coverage,
+    /// Lines alone, in the primitive's colour, instead of over the shaded surface.
+    pub isolation: bool,
+    /// Surface colour when not coloured by a property.
+    pub solid_color: [f32; 4],
+    pub colormap: Colormap,
+    /// Scalar range mapped onto the colour map; `None` draws the solid colour.
+    pub scalar_range: Option<(f32, f32)>,
+    pub background: [f32; 4],
+    /// Largest fraction of a coordinate unit a half line may cover (saturation cap).
+    pub cap: f32,
+    /// Width of the wireframe texture's level 0.
+    pub texture_width: u32,
+}
+
+impl Default for Style {
+    fn default() -> Self {
+        Style {
+            thickness: 1.5,
+            wire_color: [0.05, 0.05, 0.05, 1.0],
+            attenuation: Attenuation::None,
+            coverage: Coverage::Texture,
+            isolation: false,
+            solid_color: [0.78, 0.74, 0.66, 1.0],
+            colormap: Colormap::Viridis,
+            scalar_range: None,
+            background: [1.0, 1.0, 1.0, 1.0],
+            cap: 1.0 / 3.0,
+            texture_width: 4096,
+        }
+    }
+}
+
+/// Parses `#rrggbb`, `#rrggbbaa` or a few colour names into linear RGBA in 0..1.
+pub fn parse_color(s: &str) -> Option<[f32; 4]> {
+    let named = match s.to_ascii_lowercase().as_str() {
+        "black" => Some("000000"),
+        "white" => Some("ffffff"),
+        "red" => Some("d62728"),
+        "blue" => Some("1f77b4"),
+        "green" => Some("2ca02c"),
+        "grey" | "gray" => Some("808080"),
+        "yellow" => Some("ffd700"),
+        _ => None,
+    };
+    let hex = named.unwrap_or(s.trim_start_matches('#'));
+    if !(hex.len() == 6 || hex.len() == 8) || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+        return None;
+    }
+    let byte = |i: usize| {
+        u8::from_str_radix(&hex[i..i + 2], 16)
+            .ok()
+            .map(|v| f32::from(v) / 255.0)
+    };
+    Some([
+        byte(0)?,
+        byte(2)?,
+        byte(4)?,
+        if hex.len() == 8 { byte(6)? } else { 1.0 },
+    ])
+}
+
+/// Names of the wire modes, for command lines and benchmark JSON.
+pub fn wire_mode_names() -> Vec<&'static str> {
+    WireMode::ALL.iter().map(|m| m.name()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colours_parse() {
+        assert_eq!(parse_color("#ff0000"), Some([1.0, 0.0, 0.0, 1.0]));
+        assert_eq!(parse_color("black"), Some([0.0, 0.0, 0.0, 1.0]));
+        assert_eq!(
+            parse_color("#00000080").map(|c| (c[3] * 255.0).round()),
+            Some(128.0)
+        );
+        assert_eq!(parse_color("#12345"), None);
+        assert_eq!(parse_color("#gg0000"), None);
+    }
+
+    #[test]
+    fn colormaps_have_256_entries() {
+        for (name, c) in Colormap::ALL {
+            assert_eq!(c.table().len(), 1024, "{name}");
+            assert_eq!(Colormap::from_name(name), Some(c));
+        }
+    }
+}

@@ -1,0 +1,122 @@
+// Shared by every technique: the frame uniforms, shading, and the coverage of a pixel
+// by the line at the nearest odd value of a coordinate, from a mip-mapped texture
+// (Celes & Abraham) or evaluated analytically from the coordinate's gradient.
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    // xyz: eye in the exaggerated display frame; w: vertical exaggeration.
+    eye: vec4<f32>,
+    // xyz: unit direction towards the light; w: ambient fraction.
+    light: vec4<f32>,
+    wire_color: vec4<f32>,
+    solid_color: vec4<f32>,
+    // width, height, 1 / width, 1 / height.
+    viewport: vec4<f32>,
+    // x: thickness in pixels; y: saturation cap (fraction of a coordinate unit);
+    // z: 1 analytic coverage, 0 texture; w: 1 lines in isolation, 0 over the surface.
+    line: vec4<f32>,
+    // x: near distance; y: 1 / (far - near); z: 0 none, 1 intensity, 2 thickness;
+    // w: number of attenuation layers in the wireframe texture.
+    atten: vec4<f32>,
+    // x: scalar at the colour map's start; y: 1 / range; z: 1 colour by scalar.
+    scalar: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var wire_tex: texture_2d_array<f32>;
+@group(0) @binding(2) var wire_sampler: sampler;
+@group(0) @binding(3) var colormap: texture_2d<f32>;
+@group(0) @binding(4) var colormap_sampler: sampler;
+
+// Scalars below this are "undefined" (the CPU writes -3.0e38 for NaN, since NaN
+// comparisons are not reliable across shader compilers).
+const UNDEFINED_SCALAR: f32 = -1.0e38;
+
+fn world(p: vec3<f32>) -> vec3<f32> {
+    return vec3<f32>(p.xy, p.z * frame.eye.w);
+}
+
+fn clip(wp: vec3<f32>) -> vec4<f32> {
+    return frame.view_proj * vec4<f32>(wp, 1.0);
+}
+
+// 0 at the near end of the scene, 1 at the far end.
+fn depth_fraction(wp: vec3<f32>) -> f32 {
+    return clamp((distance(wp, frame.eye.xyz) - frame.atten.x) * frame.atten.y, 0.0, 1.0);
+}
+
+// The attenuation curves; the wireframe texture's layers are built from the same ones.
+fn intensity_factor(a: f32) -> f32 {
+    return 1.0 - 0.85 * a;
+}
+
+fn thickness_factor(a: f32) -> f32 {
+    return 1.0 - 0.65 * a;
+}
+
+// Exact box-filtered coverage of a pixel by the line of the nearest odd value of x.
+// `grad` is |grad x| in coordinate units per pixel: the distance in pixels is the
+// distance in units over it, and the half width is capped to `cap` units so that
+// lines never cover more than that fraction of small cells (no saturation).
+fn coverage_analytic(x: f32, grad: f32, a: f32) -> f32 {
+    let g = max(grad, 1.0e-12);
+    var half = 0.5 * frame.line.x;
+    var intensity = 1.0;
+    if frame.atten.z == 2.0 {
+        half = max(0.25, half * thickness_factor(a));
+    } else if frame.atten.z == 1.0 {
+        intensity = intensity_factor(a);
+    }
+    half = min(half, frame.line.y / g);
+    let d = abs(x - (2.0 * floor(0.5 * x) + 1.0)) / g;
+    return clamp(min(d + 0.5, half) - max(d - 0.5, -half), 0.0, 1.0) * intensity;
+}
+
+// The same coverage from the mip-mapped wireframe texture. The level is chosen from
+// the full gradient of this coordinate alone (passed as an x-only derivative), not
+// from the larger per-axis derivative the hardware would use, which would make
+// diagonal lines up to sqrt(2) too thick.
+fn coverage_texture(x: f32, grad: f32, a: f32) -> f32 {
+    let layer = i32(round(a * (frame.atten.w - 1.0)));
+    let g = vec2<f32>(max(grad, 1.0e-12), 0.0);
+    return textureSampleGrad(wire_tex, wire_sampler, vec2<f32>(x, 0.5), layer, g, vec2<f32>(0.0)).a;
+}
+
+fn coverage(x: f32, grad: f32, a: f32) -> f32 {
+    if frame.line.z > 0.5 {
+        return coverage_analytic(x, grad, a);
+    }
+    return coverage_texture(x, grad, a);
+}
+
+// Union of two line families' coverages.
+fn union2(a: f32, b: f32) -> f32 {
+    return 1.0 - (1.0 - a) * (1.0 - b);
+}
+
+fn base_color(scalar: f32) -> vec4<f32> {
+    if frame.scalar.z > 0.5 {
+        if scalar < UNDEFINED_SCALAR {
+            return vec4<f32>(0.55, 0.55, 0.55, 1.0);
+        }
+        let u = clamp((scalar - frame.scalar.x) * frame.scalar.y, 0.0, 1.0);
+        return textureSampleLevel(colormap, colormap_sampler, vec2<f32>(u, 0.5), 0.0);
+    }
+    return frame.solid_color;
+}
+
+// Two-sided diffuse lighting with the flat normal of the fragment's facet.
+fn shade(base: vec3<f32>, dpx: vec3<f32>, dpy: vec3<f32>) -> vec3<f32> {
+    let n = normalize(cross(dpx, dpy));
+    let diffuse = abs(dot(n, frame.light.xyz));
+    return base * (frame.light.w + (1.0 - frame.light.w) * diffuse);
+}
+
+// Final colour: lines over the shaded surface, or in isolation with the primitive's
+// own colour over a transparent interior.
+fn compose(base: vec4<f32>, lit: vec3<f32>, cov: f32) -> vec4<f32> {
+    if frame.line.w > 0.5 {
+        return vec4<f32>(base.rgb, cov);
+    }
+    return vec4<f32>(mix(lit, frame.wire_color.rgb, cov * frame.wire_color.a), 1.0);
+}

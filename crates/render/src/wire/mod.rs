@@ -1,0 +1,201 @@
+//! Wireframe techniques. Each family lives in its own module with its WGSL beside it;
+//! they all implement [`Technique`], and [`create`] is the one registration point the
+//! renderer, the command line, the tests and the benchmarks iterate over.
+
+pub mod labels;
+mod texture;
+mod wire_texture;
+
+pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
+
+use strata_grid::SurfaceMesh;
+
+use crate::{Gpu, Result};
+
+/// The wireframe techniques.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WireMode {
+    /// Shaded surface only: the reference every technique is measured against.
+    None,
+    /// Global odd texture coordinates of structured meshes (2i + 1, 2j + 1): draws the
+    /// original grid on any surface that carries them, decimated ones included.
+    Global,
+    /// Per-quad -1 / +1 coordinates (cell faces).
+    Quad,
+    /// Per-vertex α/β/γ labels found by depth-first search, duplicating on conflict.
+    Tex,
+    /// Per-triangle coordinates made while pulling vertices (no duplication).
+    TexGs,
+}
+
+impl WireMode {
+    pub const ALL: [WireMode; 5] = [
+        WireMode::None,
+        WireMode::Global,
+        WireMode::Quad,
+        WireMode::Tex,
+        WireMode::TexGs,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            WireMode::None => "none",
+            WireMode::Global => "global",
+            WireMode::Quad => "quad",
+            WireMode::Tex => "tex",
+            WireMode::TexGs => "texgs",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.name().eq_ignore_ascii_case(name))
+    }
+}
+
+/// What every pipeline of a frame shares: the device, the frame bind group layout
+/// (uniforms, wireframe texture, colour map) and the target formats.
+pub struct PipelineContext<'a> {
+    pub gpu: &'a Gpu,
+    pub frame_layout: &'a wgpu::BindGroupLayout,
+}
+
+/// Colour and depth formats of every frame.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The targets and shared bindings of the frame being drawn.
+pub struct FrameTargets<'a> {
+    pub color: &'a wgpu::TextureView,
+    pub depth: &'a wgpu::TextureView,
+    pub frame_bind_group: &'a wgpu::BindGroup,
+    pub width: u32,
+    pub height: u32,
+}
+
+impl FrameTargets<'_> {
+    /// A render pass over the frame's targets that keeps what is already drawn.
+    pub fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &str,
+    ) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: self.color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
+
+/// A wireframe technique: turns a mesh into what it draws.
+pub trait Technique {
+    fn mode(&self) -> WireMode;
+    /// Uploads `mesh` in this technique's form (retained mode). Fails when the mesh
+    /// lacks what the technique needs (e.g. cell faces for `quad`).
+    fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>>;
+}
+
+/// A mesh prepared by a technique, ready to be drawn into a frame.
+pub trait Drawable {
+    /// Records the passes that draw this mesh into the frame's targets.
+    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder);
+    /// Triangles drawn per frame.
+    fn triangles(&self) -> usize;
+    /// Bytes uploaded for this mesh (what immediate mode sends every frame).
+    fn bytes(&self) -> u64;
+}
+
+/// The registry: the technique of `mode`.
+pub fn create(mode: WireMode, ctx: &PipelineContext) -> Box<dyn Technique> {
+    match mode {
+        WireMode::None | WireMode::Global | WireMode::Quad | WireMode::Tex => {
+            Box::new(texture::VertexTechnique::new(mode, ctx))
+        }
+        WireMode::TexGs => Box::new(texture::PulledTechnique::new(ctx)),
+    }
+}
+
+/// Builds a triangle-list render pipeline with the frame's formats, reversed depth,
+/// no culling (two-sided surfaces) and alpha blending.
+pub(crate) fn pipeline(
+    ctx: &PipelineContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    (vs, fs): (&str, &str),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    extra_layouts: &[&wgpu::BindGroupLayout],
+) -> wgpu::RenderPipeline {
+    let device = &ctx.gpu.device;
+    let mut layouts: Vec<Option<&wgpu::BindGroupLayout>> = vec![Some(ctx.frame_layout)];
+    layouts.extend(extra_layouts.iter().map(|l| Some(*l)));
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &layouts,
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some(vs),
+            compilation_options: Default::default(),
+            buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            cull_mode: None,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(fs),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: COLOR_FORMAT,
+                blend: Some(wgpu::BlendState::ALPHA_BLENDING),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The WGSL of the texture family, with the shared code in front.
+pub(crate) fn texture_shader(device: &wgpu::Device) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("texture wireframe"),
+        source: wgpu::ShaderSource::Wgsl(
+            concat!(include_str!("common.wgsl"), include_str!("texture.wgsl")).into(),
+        ),
+    })
+}

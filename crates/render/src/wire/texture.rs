@@ -1,0 +1,358 @@
+//! The texture-based techniques of Celes & Abraham: `global`, `quad`, `tex` (vertex
+//! buffers with the coordinates of each scheme) and `texgs` (per-triangle coordinates
+//! made in the vertex shader while pulling vertices from storage buffers, which
+//! stands in for the paper's geometry shader). `none` shares the vertex path with the
+//! wire turned off, so every ratio to it compares like with like.
+
+use bytemuck::{Pod, Zeroable};
+use strata_grid::SurfaceMesh;
+use wgpu::util::DeviceExt;
+
+use super::labels::{Labelling, label_vertices};
+use super::{
+    Drawable, FrameTargets, PipelineContext, Technique, WireMode, pipeline, texture_shader,
+};
+use crate::{Error, Gpu, Result};
+
+/// The value written for an undefined scalar (see `UNDEFINED_SCALAR` in common.wgsl).
+const UNDEFINED_SCALAR: f32 = -3.0e38;
+
+fn scalar_at(mesh: &SurfaceMesh, v: usize) -> f32 {
+    match mesh.scalars.get(v) {
+        Some(s) if s.is_finite() => *s,
+        Some(_) => UNDEFINED_SCALAR,
+        None => 0.0,
+    }
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct UvVertex {
+    position: [f32; 3],
+    uv: [f32; 2],
+    scalar: f32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Tex3Vertex {
+    position: [f32; 3],
+    s: [f32; 3],
+    scalar: f32,
+}
+
+const UV_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x2, 2 => Float32];
+const TEX3_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32];
+
+/// `none`, `global`, `quad` and `tex`: indexed vertex buffers.
+pub struct VertexTechnique {
+    mode: WireMode,
+    pipeline: wgpu::RenderPipeline,
+}
+
+impl VertexTechnique {
+    pub fn new(mode: WireMode, ctx: &PipelineContext) -> Self {
+        let module = texture_shader(&ctx.gpu.device);
+        let uv_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<UvVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &UV_ATTRIBUTES,
+        };
+        let tex3_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Tex3Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &TEX3_ATTRIBUTES,
+        };
+        let (entries, layout) = match mode {
+            WireMode::None => (("vs_uv", "fs_shaded"), uv_layout),
+            WireMode::Tex => (("vs_tex3", "fs_tex3"), tex3_layout),
+            _ => (("vs_uv", "fs_uv"), uv_layout),
+        };
+        let pipeline = pipeline(ctx, mode.name(), &module, entries, &[Some(layout)], &[]);
+        VertexTechnique { mode, pipeline }
+    }
+}
+
+impl Technique for VertexTechnique {
+    fn mode(&self) -> WireMode {
+        self.mode
+    }
+
+    fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
+        let (vertices, triangles): (Vec<u8>, Vec<[u32; 3]>) = match self.mode {
+            WireMode::Quad => {
+                let (v, t) = quad_vertices(mesh)?;
+                (bytemuck::cast_slice(&v).to_vec(), t)
+            }
+            WireMode::Tex => {
+                let l = label_vertices(mesh.vertex_count(), &mesh.triangles);
+                let v: Vec<Tex3Vertex> = l
+                    .source_vertex
+                    .iter()
+                    .zip(&l.labels)
+                    .map(|(&src, &label)| Tex3Vertex {
+                        position: mesh.positions[src as usize],
+                        s: Labelling::coordinates(label),
+                        scalar: scalar_at(mesh, src as usize),
+                    })
+                    .collect();
+                (bytemuck::cast_slice(&v).to_vec(), l.triangles)
+            }
+            _ => {
+                let v: Vec<UvVertex> = (0..mesh.vertex_count())
+                    .map(|i| UvVertex {
+                        position: mesh.positions[i],
+                        uv: mesh.texcoords[i],
+                        scalar: scalar_at(mesh, i),
+                    })
+                    .collect();
+                (bytemuck::cast_slice(&v).to_vec(), mesh.triangles.clone())
+            }
+        };
+        Ok(Box::new(IndexedDraw::new(
+            gpu,
+            self.pipeline.clone(),
+            &vertices,
+            &triangles,
+            self.mode.name(),
+        )?))
+    }
+}
+
+/// Every cell face gets its own four vertices with coordinates -1 / +1 on opposite
+/// sides; the diagonal the two triangles share runs from (-1, -1) to (1, 1) and so
+/// never reaches a line.
+fn quad_vertices(mesh: &SurfaceMesh) -> Result<(Vec<UvVertex>, Vec<[u32; 3]>)> {
+    if mesh.cell_faces.is_empty() {
+        return Err(Error::Invalid(
+            "the quad wireframe needs a mesh made of cell faces".into(),
+        ));
+    }
+    let mut vertices = Vec::with_capacity(4 * mesh.cell_faces.len());
+    let mut triangles = Vec::with_capacity(2 * mesh.cell_faces.len());
+    for face in &mesh.cell_faces {
+        let [a, b] = face.triangles.map(|t| mesh.triangles[t as usize]);
+        // The diagonal is the edge the two triangles share; `a` walks d0 -> x -> d1.
+        let Some(e) = (0..3).find(|&e| {
+            let (u, v) = (a[e], a[(e + 1) % 3]);
+            b.contains(&u) && b.contains(&v)
+        }) else {
+            return Err(Error::Invalid(format!(
+                "cell face {:?}: its triangles share no edge",
+                face.cell
+            )));
+        };
+        let (d1, d0) = (a[e], a[(e + 1) % 3]);
+        let x = a[(e + 2) % 3];
+        let Some(&y) = b.iter().find(|v| **v != d0 && **v != d1) else {
+            return Err(Error::Invalid(format!(
+                "cell face {:?} is degenerate",
+                face.cell
+            )));
+        };
+        let base = vertices.len() as u32;
+        for (v, uv) in [
+            (d0, [-1.0, -1.0]),
+            (x, [1.0, -1.0]),
+            (d1, [1.0, 1.0]),
+            (y, [-1.0, 1.0]),
+        ] {
+            vertices.push(UvVertex {
+                position: mesh.positions[v as usize],
+                uv,
+                scalar: scalar_at(mesh, v as usize),
+            });
+        }
+        triangles.push([base, base + 1, base + 2]);
+        triangles.push([base, base + 2, base + 3]);
+    }
+    Ok((vertices, triangles))
+}
+
+/// An indexed triangle list in a vertex and an index buffer.
+struct IndexedDraw {
+    pipeline: wgpu::RenderPipeline,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    bytes: u64,
+}
+
+impl IndexedDraw {
+    fn new(
+        gpu: &Gpu,
+        pipeline: wgpu::RenderPipeline,
+        vertices: &[u8],
+        triangles: &[[u32; 3]],
+        label: &str,
+    ) -> Result<Self> {
+        if triangles.is_empty() {
+            return Err(Error::Invalid(
+                "nothing to draw: the mesh has no triangles".into(),
+            ));
+        }
+        let device = &gpu.device;
+        let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: vertices,
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let index_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(triangles),
+            usage: wgpu::BufferUsages::INDEX,
+        });
+        Ok(IndexedDraw {
+            pipeline,
+            vertices: vertex_buffer,
+            indices: index_buffer,
+            index_count: 3 * triangles.len() as u32,
+            bytes: (vertices.len() + 12 * triangles.len()) as u64,
+        })
+    }
+}
+
+impl Drawable for IndexedDraw {
+    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = frame.begin_pass(encoder, "indexed mesh");
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_vertex_buffer(0, self.vertices.slice(..));
+        pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..self.index_count, 0, 0..1);
+    }
+
+    fn triangles(&self) -> usize {
+        self.index_count as usize / 3
+    }
+
+    fn bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+/// `texgs`: non-indexed draw of 3 T vertices; the vertex shader reads the index and
+/// vertex data from storage buffers and makes each corner's coordinates.
+pub struct PulledTechnique {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl PulledTechnique {
+    pub fn new(ctx: &PipelineContext) -> Self {
+        let device = &ctx.gpu.device;
+        let entry = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("texgs storage"),
+            entries: &[entry(0), entry(1), entry(2), entry(3)],
+        });
+        let module = texture_shader(device);
+        let pipeline = pipeline(
+            ctx,
+            "texgs",
+            &module,
+            ("vs_texgs", "fs_tex3"),
+            &[],
+            &[&layout],
+        );
+        PulledTechnique { pipeline, layout }
+    }
+}
+
+impl Technique for PulledTechnique {
+    fn mode(&self) -> WireMode {
+        WireMode::TexGs
+    }
+
+    fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
+        if mesh.triangles.is_empty() {
+            return Err(Error::Invalid(
+                "nothing to draw: the mesh has no triangles".into(),
+            ));
+        }
+        let device = &gpu.device;
+        let scalars: Vec<f32> = (0..mesh.vertex_count())
+            .map(|v| scalar_at(mesh, v))
+            .collect();
+        let masks: Vec<u32> = mesh.edge_mask().into_iter().map(u32::from).collect();
+        let buffers: [&[u8]; 4] = [
+            bytemuck::cast_slice(&mesh.positions),
+            bytemuck::cast_slice(&scalars),
+            bytemuck::cast_slice(&mesh.triangles),
+            bytemuck::cast_slice(&masks),
+        ];
+        let limit = gpu.limits.max_storage_buffer_binding_size as usize;
+        if let Some(too_big) = buffers.iter().find(|b| b.len() > limit) {
+            return Err(Error::Invalid(format!(
+                "texgs: a storage buffer of {} bytes exceeds this adapter's binding limit of {limit}; draw the mesh in chunks",
+                too_big.len()
+            )));
+        }
+        let buffers: Vec<wgpu::Buffer> = buffers
+            .iter()
+            .map(|contents| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("texgs"),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            })
+            .collect();
+        let bytes = buffers.iter().map(wgpu::Buffer::size).sum();
+        let entries: Vec<wgpu::BindGroupEntry> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("texgs"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+        Ok(Box::new(PulledDraw {
+            pipeline: self.pipeline.clone(),
+            bind_group,
+            vertex_count: 3 * mesh.triangles.len() as u32,
+            bytes,
+        }))
+    }
+}
+
+struct PulledDraw {
+    pipeline: wgpu::RenderPipeline,
+    bind_group: wgpu::BindGroup,
+    vertex_count: u32,
+    bytes: u64,
+}
+
+impl Drawable for PulledDraw {
+    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = frame.begin_pass(encoder, "texgs");
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        pass.draw(0..self.vertex_count, 0..1);
+    }
+
+    fn triangles(&self) -> usize {
+        self.vertex_count as usize / 3
+    }
+
+    fn bytes(&self) -> u64 {
+        self.bytes
+    }
+}

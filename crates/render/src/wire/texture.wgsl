@@ -1,0 +1,100 @@
+// Texture-based wireframe (Celes & Abraham): lines are drawn while rasterizing the
+// polygons, by mapping the wireframe texture with coordinates that reach an odd value
+// on the edges to draw.
+//  - vs_uv + fs_uv: two families from a 2D coordinate, lines at odd values with
+//    mirrored-repeat addressing: `global` (node (i, j) at (2i + 1, 2j + 1)) and
+//    `quad` (per-quad -1 / +1);
+//  - vs_tex3 + fs_tex3: three families, one per triangle edge, the edge where a
+//    coordinate reaches 1: `tex` (per-vertex labels);
+//  - vs_texgs + fs_tex3: the same coordinates made per triangle from the corner
+//    index while pulling vertices from storage (`texgs`: wgpu has no geometry shader).
+
+struct UvOut {
+    @builtin(position) position: vec4<f32>,
+    @location(0) wp: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) scalar: f32,
+}
+
+struct Tex3Out {
+    @builtin(position) position: vec4<f32>,
+    @location(0) wp: vec3<f32>,
+    @location(1) s: vec3<f32>,
+    @location(2) scalar: f32,
+}
+
+// Gradient length of one coordinate, in coordinate units per pixel.
+fn grad_len(dx: f32, dy: f32) -> f32 {
+    return length(vec2<f32>(dx, dy));
+}
+
+@vertex
+fn vs_uv(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32) -> UvOut {
+    let wp = world(p);
+    return UvOut(clip(wp), wp, uv, scalar);
+}
+
+@fragment
+fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
+    let base = base_color(in.scalar);
+    return compose(base, shade(base.rgb, dpdx(in.wp), dpdy(in.wp)), 0.0);
+}
+
+@fragment
+fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
+    let dpx = dpdx(in.wp);
+    let dpy = dpdy(in.wp);
+    let du = dpdx(in.uv);
+    let dv = dpdy(in.uv);
+    let a = depth_fraction(in.wp);
+    let cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
+    let base = base_color(in.scalar);
+    return compose(base, shade(base.rgb, dpx, dpy), cov);
+}
+
+@vertex
+fn vs_tex3(@location(0) p: vec3<f32>, @location(1) s: vec3<f32>, @location(2) scalar: f32) -> Tex3Out {
+    let wp = world(p);
+    return Tex3Out(clip(wp), wp, s, scalar);
+}
+
+@fragment
+fn fs_tex3(in: Tex3Out) -> @location(0) vec4<f32> {
+    let dpx = dpdx(in.wp);
+    let dpy = dpdy(in.wp);
+    let dsx = dpdx(in.s);
+    let dsy = dpdy(in.s);
+    let a = depth_fraction(in.wp);
+    let c0 = coverage(in.s.x, grad_len(dsx.x, dsy.x), a);
+    let c1 = coverage(in.s.y, grad_len(dsx.y, dsy.y), a);
+    let c2 = coverage(in.s.z, grad_len(dsx.z, dsy.z), a);
+    let base = base_color(in.scalar);
+    return compose(base, shade(base.rgb, dpx, dpy), union2(union2(c0, c1), c2));
+}
+
+// Vertex pulling for texgs: positions (xyz packed), scalars, the index buffer, and per
+// triangle the mask of real edges (bit e: edge from corner e to corner e + 1; a quad's
+// diagonal is not real and is never drawn).
+@group(1) @binding(0) var<storage, read> pulled_positions: array<f32>;
+@group(1) @binding(1) var<storage, read> pulled_scalars: array<f32>;
+@group(1) @binding(2) var<storage, read> pulled_indices: array<u32>;
+@group(1) @binding(3) var<storage, read> pulled_edge_masks: array<u32>;
+
+@vertex
+fn vs_texgs(@builtin(vertex_index) vi: u32) -> Tex3Out {
+    let corner = vi % 3u;
+    let v = pulled_indices[vi];
+    let p = vec3<f32>(pulled_positions[3u * v], pulled_positions[3u * v + 1u], pulled_positions[3u * v + 2u]);
+    let mask = pulled_edge_masks[vi / 3u];
+    // Family c draws the edge opposite corner c, i.e. edge (c + 1) % 3: it is 1 at the
+    // two other corners and 0 at corner c, or 0 everywhere when that edge is not real.
+    var s = vec3<f32>(1.0, 1.0, 1.0);
+    s[corner] = 0.0;
+    for (var c = 0u; c < 3u; c++) {
+        if ((mask >> ((c + 1u) % 3u)) & 1u) == 0u {
+            s[c] = 0.0;
+        }
+    }
+    let wp = world(p);
+    return Tex3Out(clip(wp), wp, s, pulled_scalars[v]);
+}
