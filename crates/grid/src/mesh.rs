@@ -164,6 +164,39 @@ impl SurfaceMesh {
             }));
     }
 
+    /// A copy in which every cell face has its own vertices carrying the face's cell
+    /// value as scalar, so that colouring by the scalar paints each cell flat (as
+    /// reservoir engineers expect), while positions and global texture coordinates,
+    /// and so the wireframe, stay the same. Triangles not in a cell face are dropped.
+    pub fn with_cell_values(&self) -> SurfaceMesh {
+        let mut out = SurfaceMesh::with_origin(self.origin);
+        for face in &self.cell_faces {
+            let t0 = out.triangles.len() as u32;
+            // The face's own vertices, shared by its two triangles: (original, copy).
+            let mut copies: Vec<(u32, u32)> = Vec::with_capacity(4);
+            for t in face.triangles {
+                let tri =
+                    self.triangles[t as usize].map(|v| match copies.iter().find(|c| c.0 == v) {
+                        Some(&(_, w)) => w,
+                        None => {
+                            let w = out.positions.len() as u32;
+                            out.positions.push(self.positions[v as usize]);
+                            out.texcoords.push(self.texcoords[v as usize]);
+                            out.scalars.push(face.value);
+                            copies.push((v, w));
+                            w
+                        }
+                    });
+                out.triangles.push(tri);
+            }
+            out.cell_faces.push(CellFace {
+                triangles: [t0, t0 + 1],
+                ..*face
+            });
+        }
+        out
+    }
+
     /// Axis-aligned bounds of the positions (relative to `origin`); `None` when empty.
     pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let first = *self.positions.first()?;
@@ -228,6 +261,25 @@ mod tests {
         );
         assert_eq!(m.texcoords[5], [3.0, 3.0]);
         assert!(m.edge_mask().iter().all(|&e| e.count_ones() == 2));
+    }
+
+    #[test]
+    fn cell_values_get_their_own_vertices() {
+        let mut m = SurfaceMesh::structured(2, 1, |i, j| [i as f32, j as f32, 0.0]);
+        m.cell_faces[0].value = 0.1;
+        m.cell_faces[1].value = 0.2;
+        let c = m.with_cell_values();
+        c.validate().unwrap();
+        assert_eq!((c.vertex_count(), c.triangle_count()), (8, 4));
+        assert_eq!(c.scalars, vec![0.1, 0.1, 0.1, 0.1, 0.2, 0.2, 0.2, 0.2]);
+        // Same geometry and coordinates, triangle by triangle.
+        for (a, b) in m.triangles.iter().zip(&c.triangles) {
+            for k in 0..3 {
+                assert_eq!(m.positions[a[k] as usize], c.positions[b[k] as usize]);
+                assert_eq!(m.texcoords[a[k] as usize], c.texcoords[b[k] as usize]);
+            }
+        }
+        assert_eq!(c.edge_mask(), m.edge_mask());
     }
 
     #[test]
