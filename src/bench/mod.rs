@@ -1,0 +1,4 @@
+//! Benchmarks behind `strata bench`: programs that measure and print (a table, or JSON
+//! with `--json`), run on demand and never as pass/fail timing in CI.
+
+pub mod io;
