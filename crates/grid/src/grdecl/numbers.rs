@@ -23,11 +23,24 @@ const CHUNK: usize = 1 << 20;
 /// A float type a keyword is read into.
 pub(super) trait Num: FastFloat + Copy + Send + Sync {
     fn finite(self) -> bool;
+    /// `r`, the correctly rounded `f64` of a decimal, as this type, or `None` where
+    /// converting it could round differently from the decimal itself.
+    fn from_rounded(r: f64) -> Option<Self>;
 }
 
 impl Num for f32 {
     fn finite(self) -> bool {
         self.is_finite()
+    }
+
+    /// Rounding the decimal to `f64` and then to `f32` is exact unless the `f64`
+    /// landed exactly on a midpoint between two `f32`s (the 29 bits `f32` drops are
+    /// then `1000...0`): the decimal may have been just above or below it, so that
+    /// case goes to the full parser. `r` is in the normal `f32` range here.
+    #[inline]
+    fn from_rounded(r: f64) -> Option<Self> {
+        const DROPPED: u64 = (1 << 29) - 1;
+        (r.to_bits() & DROPPED != 1 << 28).then_some(r as f32)
     }
 }
 
@@ -35,7 +48,18 @@ impl Num for f64 {
     fn finite(self) -> bool {
         self.is_finite()
     }
+
+    #[inline]
+    fn from_rounded(r: f64) -> Option<Self> {
+        Some(r)
+    }
 }
+
+/// Powers of ten exactly representable as `f64`.
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
 
 /// How one keyword's numbers are read.
 pub(super) struct Spec<T> {
@@ -196,6 +220,54 @@ fn parse_range<T: Num>(
 /// separator, `*`, `/`, a comment or the end.
 #[inline]
 fn number<T: Num>(b: &[u8], i: usize) -> Result<(T, usize), NumError> {
+    match plain(b, i) {
+        Some(v) => Ok(v),
+        None => general(b, i),
+    }
+}
+
+/// The common case in bulk data, `-12.345` (no exponent, at most 15 digits): the
+/// digits as an integer below 2^53 divided by an exact power of ten is the correctly
+/// rounded `f64` (IEEE division of exact operands). `None` sends anything else,
+/// including the rare `f32` midpoint, to [`general`].
+#[inline(always)]
+fn plain<T: Num>(b: &[u8], i: usize) -> Option<(T, usize)> {
+    let negative = b.get(i) == Some(&b'-');
+    let mut j = i + usize::from(negative);
+    let digits_start = j;
+    let mut m: u64 = 0;
+    while let Some(d) = b.get(j).map(|c| c.wrapping_sub(b'0')).filter(|&d| d < 10) {
+        m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+        j += 1;
+    }
+    let mut frac = 0;
+    let dot = b.get(j) == Some(&b'.');
+    if dot {
+        j += 1;
+        let frac_start = j;
+        while let Some(d) = b.get(j).map(|c| c.wrapping_sub(b'0')).filter(|&d| d < 10) {
+            m = m.wrapping_mul(10).wrapping_add(u64::from(d));
+            j += 1;
+        }
+        frac = j - frac_start;
+    }
+    let digits = j - digits_start - usize::from(dot);
+    if digits == 0 || digits > 15 {
+        return None;
+    }
+    if let Some(&c) = b.get(j) {
+        if !(is_sep(c) || c == b'/' || c == b'*' || comment_at(b, j)) {
+            return None;
+        }
+    }
+    let r = m as f64 / POW10[frac];
+    T::from_rounded(if negative { -r } else { r }).map(|v| (v, j))
+}
+
+/// Any number `fast_float2` reads (exponents, many digits, `inf`, `nan`), and the
+/// Fortran `D` exponent.
+#[cold]
+fn general<T: Num>(b: &[u8], i: usize) -> Result<(T, usize), NumError> {
     let Ok((v, n)) = fast_float2::parse_partial::<T, _>(&b[i..]) else {
         return Err(bad(b, i));
     };
@@ -210,7 +282,6 @@ fn number<T: Num>(b: &[u8], i: usize) -> Result<(T, usize), NumError> {
 
 /// A Fortran double-precision literal (`1.5D+03`): the token with its `D` made an
 /// `e`, parsed whole.
-#[cold]
 fn fortran<T: Num>(b: &[u8], i: usize) -> Result<(T, usize), NumError> {
     let j = token_end(b, i);
     let mut buf = [0u8; 64];
@@ -348,6 +419,50 @@ mod tests {
         );
         let e = read("2*3*4 /", &spec(10, None)).unwrap_err();
         assert!(e.message.contains("'2*3*4'"), "{}", e.message);
+    }
+
+    /// The plain-decimal shortcut agrees bit for bit with `fast_float2`, including
+    /// at `f32` midpoints where rounding through `f64` could go wrong.
+    #[test]
+    fn plain_decimals_round_like_fast_float() {
+        let mut cases: Vec<String> = [
+            "16777217",
+            "16777219",
+            "1.000000059604645",
+            "1.0000000596046448",
+            "0.1",
+            "-0",
+            "1.",
+            ".5",
+            "-.5",
+            "999999999999999",
+            "3.4028235e38",
+            "0.000000000000000000001",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
+        for _ in 0..200_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let v = f32::from_bits((x as u32 & 0x3fff_ffff) | 0x3000_0000);
+            cases.push(format!("{v}"));
+            cases.push(format!("{:.*}", (x >> 40) as usize % 12, v));
+            cases.push(format!("{}", (x >> 11) as f64 / (1u64 << (x % 40)) as f64));
+        }
+        for c in &cases {
+            let b = c.as_bytes();
+            let want32 = fast_float2::parse::<f32, _>(b).ok();
+            let got32 = number::<f32>(b, 0).ok().map(|(v, _)| v);
+            assert_eq!(got32.map(f32::to_bits), want32.map(f32::to_bits), "{c}");
+            let want64 = fast_float2::parse::<f64, _>(b).ok();
+            let got64 = number::<f64>(b, 0).ok().map(|(v, _)| v);
+            assert_eq!(got64.map(f64::to_bits), want64.map(f64::to_bits), "{c}");
+        }
+        assert!(plain::<f32>(b"16777217", 0).is_none());
+        assert!(plain::<f32>(b"1.5", 0).is_some());
     }
 
     #[test]
