@@ -24,7 +24,7 @@ fn main() -> anyhow::Result<()> {
         strata::render::glam::Vec3::new(120.0, 80.0, 0.0),
     );
     let view = View {
-        camera: Camera::fit(bounds.0, bounds.1, 1.0, 20.0, 50.0, 1.0),
+        camera: Camera::fit(bounds.0, bounds.1, 1.0, 800.0 / 600.0, (20.0, 50.0), 1.0),
         width: 800,
         height: 600,
         bounds,

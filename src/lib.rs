@@ -6,3 +6,6 @@
 pub use strata_grid as grid;
 pub use strata_lod as lod;
 pub use strata_render as render;
+
+pub mod bench;
+pub mod scene;

@@ -21,6 +21,24 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Write a synthetic faulted reservoir model (.grdecl or .egrid).
     Synth(cli::synth::SynthArgs),
+    /// Render layers shaded by a property with the cell wireframe to a PNG.
+    Render(Box<cli::render::RenderArgs>),
+    /// Benchmarks (on demand; print a table, or JSON with --json).
+    #[command(subcommand)]
+    Bench(BenchCommand),
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Read throughput of GRDECL and EGRID, ours beside resdata and xtgeo.
+    Io {
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Folder of real models (default: ../shared/data beside the repository).
+        #[arg(long)]
+        data: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -28,6 +46,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Info(args) => cli::info::run(&args),
         Command::Synth(args) => cli::synth::run(&args),
+        Command::Render(args) => cli::render::run(&args),
+        Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -36,6 +56,18 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn bench_io(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {
+    let data =
+        data.unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"));
+    let report = strata::bench::io::run(&data)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        strata::bench::io::print_table(&report);
+    }
+    Ok(())
 }
 
 /// The sample model shipped in `data/`, used when a command is given no model.

@@ -1,4 +1,5 @@
 //! One module per subcommand of the `strata` binary.
 
 pub mod info;
+pub mod render;
 pub mod synth;

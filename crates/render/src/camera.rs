@@ -47,25 +47,42 @@ impl Camera {
         Camera::look_at(target + dir * distance, target, up)
     }
 
-    /// An orbit camera that fits the box `[min, max]` (unscaled display frame) in view,
-    /// with vertical exaggeration `z_scale`; `distance_factor` 1 frames it tightly.
+    /// An orbit camera around the centre of the box `[min, max]` (unscaled display
+    /// frame) under vertical exaggeration `z_scale`, at the distance where all eight
+    /// corners just fit an image of `aspect` (width / height); `distance_factor`
+    /// scales that distance (above 1 leaves a margin, below 1 zooms in).
     pub fn fit(
         min: Vec3,
         max: Vec3,
         z_scale: f32,
-        azimuth_deg: f32,
-        elevation_deg: f32,
+        aspect: f32,
+        (azimuth_deg, elevation_deg): (f32, f32),
         distance_factor: f32,
     ) -> Self {
         let scale = Vec3::new(1.0, 1.0, z_scale);
         let (lo, hi) = (min * scale, max * scale);
         let centre = 0.5 * (lo + hi);
-        let radius = 0.5 * (hi - lo).length().max(1e-6);
-        let fov = 35f32;
-        let distance = radius / (0.5 * fov.to_radians()).sin() * distance_factor;
-        let mut c = Camera::orbit(centre, azimuth_deg, elevation_deg, distance);
-        c.fov_y_deg = fov;
+        let mut c = Camera::orbit(centre, azimuth_deg, elevation_deg, 1.0);
         c.z_scale = z_scale;
+        let forward = (c.target - c.eye).normalize();
+        let right = forward.cross(c.up).normalize();
+        let up = right.cross(forward);
+        let tan_y = (0.5 * c.fov_y_deg.to_radians()).tan();
+        let tan_x = tan_y * aspect.max(1e-3);
+        // A corner at offset p from the centre is inside the frustum from distance d
+        // along -forward when |p.right| <= tan_x (d + p.forward), likewise for up.
+        let distance = (0..8)
+            .map(|k| {
+                let p = Vec3::new(
+                    if k & 1 == 0 { lo.x } else { hi.x },
+                    if k & 2 == 0 { lo.y } else { hi.y },
+                    if k & 4 == 0 { lo.z } else { hi.z },
+                ) - centre;
+                let depth = p.dot(forward);
+                (p.dot(right).abs() / tan_x - depth).max(p.dot(up).abs() / tan_y - depth)
+            })
+            .fold(1e-6f32, f32::max);
+        c.eye = centre - forward * distance * distance_factor.max(1e-3) * 1.04;
         c
     }
 
@@ -136,10 +153,11 @@ mod tests {
             Vec3::new(-500.0, -300.0, -50.0),
             Vec3::new(500.0, 300.0, 50.0),
         );
-        let c = Camera::fit(lo, hi, 5.0, 30.0, 35.0, 1.0);
+        let c = Camera::fit(lo, hi, 5.0, 1.5, (30.0, 35.0), 1.0);
         let (near, far) = c.depth_range(lo, hi);
         assert!(near > 0.0 && far > near);
-        let vp = c.view_proj(1.0, near, far);
+        let vp = c.view_proj(1.5, near, far);
+        let mut tight = 0f32;
         for corner in 0..8 {
             let p = Vec3::new(
                 if corner & 1 == 0 { lo.x } else { hi.x },
@@ -148,7 +166,10 @@ mod tests {
             );
             let ndc = vp.project_point3(p);
             assert!(ndc.x.abs() <= 1.0 && ndc.y.abs() <= 1.0, "{p} -> {ndc}");
+            tight = tight.max(ndc.x.abs()).max(ndc.y.abs());
             assert!((0.0..=1.0).contains(&ndc.z), "depth {}", ndc.z);
         }
+        // Fitted, not merely inside: some corner reaches near the image border.
+        assert!(tight > 0.9, "loosest corner at {tight}");
     }
 }

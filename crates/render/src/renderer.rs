@@ -53,7 +53,9 @@ impl FrameUniforms {
             None => (0.0, 0.0, 0.0),
         };
         FrameUniforms {
-            view_proj: cam.view_proj(aspect, near, far).to_cols_array_2d(),
+            // The shader applies the vertical exaggeration itself (`world` in common.wgsl,
+            // which also feeds lighting and attenuation), so no model matrix here.
+            view_proj: (cam.projection(aspect, near, far) * cam.view()).to_cols_array_2d(),
             eye: [cam.eye.x, cam.eye.y, cam.eye.z, cam.z_scale],
             light: [light.x, light.y, light.z, 0.35],
             wire_color: style.wire_color,

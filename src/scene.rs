@@ -1,0 +1,75 @@
+//! From a model to what is drawn: the layer and side surfaces a view asks for, with
+//! the property that colours them.
+
+use std::ops::Range;
+
+use anyhow::{Result, bail};
+use strata_grid::ndarray::s;
+use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surfaces, side_surfaces};
+
+/// Which surfaces of a model to draw.
+#[derive(Clone, Debug, Default)]
+pub struct SceneOptions {
+    /// Layers (0-based, end exclusive); all when `None`.
+    pub layers: Option<Range<usize>>,
+    /// Also the side faces: the outer shell and fault walls.
+    pub sides: bool,
+    /// Property that colours the cells; `None` for a solid colour.
+    pub property: Option<String>,
+    /// Paint each cell flat with its value (per-face vertices) rather than smoothly
+    /// with values averaged onto nodes.
+    pub flat_cells: bool,
+}
+
+/// The surfaces of `grid` for a view, in one mesh relative to the grid's display
+/// origin, and the range of the property's defined values.
+pub fn build(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+) -> Result<(SurfaceMesh, Option<(f32, f32)>)> {
+    let nz = grid.dims().nz;
+    let layers = options.layers.clone().unwrap_or(0..nz);
+    if layers.is_empty() || layers.end > nz {
+        bail!(
+            "layers {}..{} are not within the model's 1..{nz}",
+            layers.start + 1,
+            layers.end
+        );
+    }
+    let origin = grid.display_origin();
+    let property = options.property.as_deref();
+    let mut mesh = layer_surfaces(grid, layers.clone(), Face::Top, property, origin)?;
+    // The bottom of the deepest layer closes the stack.
+    mesh.append(&strata_grid::layer_surface(
+        grid,
+        layers.end - 1,
+        Face::Bottom,
+        property,
+        origin,
+    )?);
+    if options.sides {
+        mesh.append(&side_surfaces(grid, layers.clone(), property, origin)?);
+    }
+    if mesh.is_empty() {
+        bail!(
+            "no active cell in layers {}..{}: nothing to draw",
+            layers.start + 1,
+            layers.end
+        );
+    }
+    let range = property.and_then(|name| {
+        let values = grid.property(name)?;
+        let (lo, hi) = values
+            .slice(s![layers.clone(), .., ..])
+            .iter()
+            .filter(|v| v.is_finite())
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(*v), hi.max(*v))
+            });
+        (lo <= hi).then_some((lo, if hi > lo { hi } else { lo + 1.0 }))
+    });
+    if options.flat_cells && property.is_some() {
+        mesh = mesh.with_cell_values();
+    }
+    Ok((mesh, range))
+}
