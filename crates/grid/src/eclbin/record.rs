@@ -500,27 +500,30 @@ impl<'a> RecordView<'a> {
         }
     }
 
-    /// Decodes every item with `conv`, one parallel task per few data records, each
-    /// writing straight into its part of the output.
-    fn decode_with<T, F>(&self, conv: F) -> Vec<T>
+    /// Decodes every `N`-byte item with `conv`, one parallel task per few data
+    /// records, each writing straight into its part of the output. `N` is a constant
+    /// so that the byte swapping compiles to vector shuffles.
+    fn decode_with<T, const N: usize, F>(&self, conv: F) -> Vec<T>
     where
         T: Copy + Default + Send,
-        F: Fn(&[u8]) -> T + Sync,
+        F: Fn([u8; N]) -> T + Sync,
     {
-        let size = self.kind.item_size();
         let mut out = vec![T::default(); self.count];
         let mut jobs = Vec::new();
         let mut rest = out.as_mut_slice();
         for block in self.blocks() {
-            let (head, tail) = rest.split_at_mut(block.len() / size);
+            let (head, tail) = rest.split_at_mut(block.len() / N);
             jobs.push((block, head));
             rest = tail;
         }
         jobs.into_par_iter()
             .with_min_len(BLOCKS_PER_TASK)
             .for_each(|(src, dst)| {
-                for (d, s) in dst.iter_mut().zip(src.chunks_exact(size)) {
-                    *d = conv(s);
+                for (d, s) in dst.iter_mut().zip(src.chunks_exact(N)) {
+                    // chunks_exact(N) yields N bytes, so this always converts.
+                    if let Ok(item) = <[u8; N]>::try_from(s) {
+                        *d = conv(item);
+                    }
                 }
             });
         out
@@ -547,9 +550,9 @@ impl<'a> RecordView<'a> {
     /// Numeric values as `f32` (INTE, REAL or DOUB).
     pub fn to_f32(&self) -> Result<Vec<f32>> {
         Ok(match self.kind {
-            RecordKind::Real => self.decode_with(|s| f32::from_bits(be32(s))),
-            RecordKind::Doub => self.decode_with(|s| f64::from_bits(be64(s)) as f32),
-            RecordKind::Inte => self.decode_with(|s| be32(s) as i32 as f32),
+            RecordKind::Real => self.decode_with(f32::from_be_bytes),
+            RecordKind::Doub => self.decode_with(|b| f64::from_be_bytes(b) as f32),
+            RecordKind::Inte => self.decode_with(|b| i32::from_be_bytes(b) as f32),
             _ => return Err(self.wrong_type("INTE, REAL or DOUB")),
         })
     }
@@ -557,9 +560,9 @@ impl<'a> RecordView<'a> {
     /// Numeric values as `f64` (INTE, REAL or DOUB).
     pub fn to_f64(&self) -> Result<Vec<f64>> {
         Ok(match self.kind {
-            RecordKind::Real => self.decode_with(|s| f64::from(f32::from_bits(be32(s)))),
-            RecordKind::Doub => self.decode_with(|s| f64::from_bits(be64(s))),
-            RecordKind::Inte => self.decode_with(|s| f64::from(be32(s) as i32)),
+            RecordKind::Real => self.decode_with(|b| f64::from(f32::from_be_bytes(b))),
+            RecordKind::Doub => self.decode_with(f64::from_be_bytes),
+            RecordKind::Inte => self.decode_with(|b| f64::from(i32::from_be_bytes(b))),
             _ => return Err(self.wrong_type("INTE, REAL or DOUB")),
         })
     }
@@ -567,7 +570,7 @@ impl<'a> RecordView<'a> {
     /// Integer values (INTE only).
     pub fn to_i32(&self) -> Result<Vec<i32>> {
         match self.kind {
-            RecordKind::Inte => Ok(self.decode_with(|s| be32(s) as i32)),
+            RecordKind::Inte => Ok(self.decode_with(i32::from_be_bytes)),
             _ => Err(self.wrong_type("INTE")),
         }
     }
@@ -576,7 +579,7 @@ impl<'a> RecordView<'a> {
     /// activity and negative values never mean active.
     pub fn to_positive_flags(&self) -> Result<Vec<bool>> {
         match self.kind {
-            RecordKind::Inte => Ok(self.decode_with(|s| (be32(s) as i32) > 0)),
+            RecordKind::Inte => Ok(self.decode_with(|b| i32::from_be_bytes(b) > 0)),
             _ => Err(self.wrong_type("INTE")),
         }
     }
@@ -592,10 +595,10 @@ impl<'a> RecordView<'a> {
     /// All values, in the type the file holds.
     pub fn decode(&self) -> Record {
         let data = match self.kind {
-            RecordKind::Inte => RecordData::Inte(self.decode_with(|s| be32(s) as i32)),
-            RecordKind::Real => RecordData::Real(self.decode_with(|s| f32::from_bits(be32(s)))),
-            RecordKind::Doub => RecordData::Doub(self.decode_with(|s| f64::from_bits(be64(s)))),
-            RecordKind::Logi => RecordData::Logi(self.decode_with(|s| be32(s) != 0)),
+            RecordKind::Inte => RecordData::Inte(self.decode_with(i32::from_be_bytes)),
+            RecordKind::Real => RecordData::Real(self.decode_with(f32::from_be_bytes)),
+            RecordKind::Doub => RecordData::Doub(self.decode_with(f64::from_be_bytes)),
+            RecordKind::Logi => RecordData::Logi(self.decode_with(|b| u32::from_be_bytes(b) != 0)),
             RecordKind::Char => RecordData::Char(self.decode_strings()),
             RecordKind::C0nn(width) => RecordData::C0nn {
                 width,
@@ -605,16 +608,4 @@ impl<'a> RecordView<'a> {
         };
         Record::new(self.name, data)
     }
-}
-
-/// A big-endian 32-bit word from a 4-byte item (callers pass `chunks_exact(4)`).
-#[inline(always)]
-fn be32(s: &[u8]) -> u32 {
-    u32::from_be_bytes([s[0], s[1], s[2], s[3]])
-}
-
-/// A big-endian 64-bit word from an 8-byte item (callers pass `chunks_exact(8)`).
-#[inline(always)]
-fn be64(s: &[u8]) -> u64 {
-    u64::from_be_bytes([s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]])
 }
