@@ -29,6 +29,14 @@ pub(super) fn present(
         || !vectors.is_empty()
 }
 
+/// The values [`to_corner_point`] allocates for `dims` (ZCORN, COORD and a few
+/// per-cell arrays on the way), `None` on overflow.
+pub(super) fn cost(dims: Dims) -> Option<usize> {
+    dims.zcorn_len()?
+        .checked_add(dims.coord_len()?)?
+        .checked_add(dims.cell_count_checked()?.checked_mul(3)?)
+}
+
 /// COORD and ZCORN (file order) for a block-centred grid.
 pub(super) fn to_corner_point(
     dims: Dims,
@@ -74,14 +82,22 @@ pub(super) fn to_corner_point(
     if zmax <= zmin {
         zmax = zmin + 1.0;
     }
+    // Running sums: x along each pillar row, y down each pillar column.
     let mut coord = Vec::with_capacity((nx + 1) * (ny + 1) * 6);
+    let mut y = vec![0f64; nx + 1];
     for pj in 0..=ny {
-        for pi in 0..=nx {
-            let row = pj.min(ny - 1);
-            let col = pi.min(nx - 1);
-            let x: f64 = (0..pi).map(|i| dx[row * nx + i]).sum();
-            let y: f64 = (0..pj).map(|j| dy[j * nx + col]).sum();
+        let row = pj.min(ny - 1);
+        let mut x = 0.0;
+        for (pi, &y) in y.iter().enumerate() {
             coord.extend([x, y, zmin, x, y, zmax]);
+            if pi < nx {
+                x += dx[row * nx + pi];
+            }
+        }
+        if pj < ny {
+            for (pi, y) in y.iter_mut().enumerate() {
+                *y += dy[pj * nx + pi.min(nx - 1)];
+            }
         }
     }
 

@@ -682,8 +682,7 @@ impl Deck<'_> {
         let (coord, zcorn, block) = match (self.coord.take(), self.zcorn.take()) {
             (Some(c), Some(z)) => (c, z, false),
             (None, None) if block::present(&cells.arrays, &self.vectors) => {
-                let cost = dims.cell_count().saturating_mul(12);
-                if cost > self.left() {
+                if block::cost(dims).is_none_or(|c| c > self.left()) {
                     return Err(Error::model(
                         &root,
                         "DX",

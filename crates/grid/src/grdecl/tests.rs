@@ -381,6 +381,17 @@ PORO
     assert!(e.contains("keyword TOPS: no TOPS"), "{e}");
 }
 
+/// Pillar positions are running sums: a grid a few hundred thousand cells wide
+/// converts at once (summing each pillar's row from scratch would take minutes).
+#[test]
+fn wide_block_centred_grid_converts_in_linear_time() {
+    let n = 300_000;
+    let text =
+        format!("DIMENS\n {n} 1 1 /\nDX\n {n}*2 /\nDY\n {n}*1 /\nDZ\n {n}*1 /\nTOPS\n {n}*0 /\n");
+    let g = parse(&text).unwrap();
+    assert_eq!(g.cell_corners(n - 1, 0, 0)[7], [2.0 * n as f64, 1.0, 1.0]);
+}
+
 #[test]
 fn boxes_and_edits() {
     let text = "DIMENS
