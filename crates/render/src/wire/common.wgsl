@@ -72,14 +72,44 @@ fn coverage_analytic(x: f32, grad: f32, a: f32) -> f32 {
     return clamp(min(d + 0.5, half) - max(d - 0.5, -half), 0.0, 1.0) * intensity;
 }
 
-// The same coverage from the mip-mapped wireframe texture. The level is chosen from
-// the full gradient of this coordinate alone (passed as an x-only derivative), not
-// from the larger per-axis derivative the hardware would use, which would make
-// diagonal lines up to sqrt(2) too thick.
+// The same coverage from the mip-mapped wireframe texture (wire_texture.rs: each level
+// holds the pixel-filtered half line at two texels per pixel). The level is chosen
+// from the full gradient of this coordinate alone, not from the larger per-axis
+// derivative the hardware would use, which would make diagonal lines up to sqrt(2)
+// too thick; and one level is sampled, never two blended:
+//  - where the line keeps its thickness (half * grad <= cap, cells at least
+//    thickness / cap pixels wide), the finest level whose texels are at most half a
+//    pixel, with the distance to the line rescaled so that they are exactly half a
+//    pixel. Trilinear filtering would blend the line of level L (thickness texels)
+//    with that of level L + 1 (twice as wide in pixels): the half-coverage edge then
+//    wanders by up to a third of the thickness between levels and the line is thinned
+//    near the cap where level L + 1 is already capped. Rescaling also keeps the
+//    thickness under magnification (cells wider than the texture at 2 texels/pixel);
+//  - where the cap applies, the finest level whose texels are at least half a pixel,
+//    unscaled: every such level is capped, so its line edge is exactly at `cap`
+//    units, filtered over 1 to 2 pixels; its mean over a cell stays at most the cap
+//    (no saturation) however small the cells get.
 fn coverage_texture(x: f32, grad: f32, a: f32) -> f32 {
-    let layer = i32(round(a * (frame.atten.w - 1.0)));
-    let g = vec2<f32>(max(grad, 1.0e-12), 0.0);
-    return textureSampleGrad(wire_tex, wire_sampler, vec2<f32>(x, 0.5), layer, g, vec2<f32>(0.0)).a;
+    let layers = frame.atten.w;
+    let layer = i32(round(a * (layers - 1.0)));
+    let g = max(grad, 1.0e-12);
+    // The layer's thickness, as wire_texture.rs builds it.
+    var half = 0.5 * frame.line.x;
+    if frame.atten.z == 2.0 {
+        half = max(0.25, half * thickness_factor(f32(layer) / max(layers - 1.0, 1.0)));
+    }
+    let top = f32(textureNumLevels(wire_tex) - 1u);
+    // log2 of the texels per pixel of level 0, less one: level `lod` has two texels
+    // per pixel.
+    let lod = log2(g * f32(textureDimensions(wire_tex, 0).x)) - 1.0;
+    let odd = 2.0 * floor(0.5 * x) + 1.0;
+    if half * g <= frame.line.y {
+        let level = clamp(floor(lod), 0.0, top);
+        let d = clamp((x - odd) * exp2(level - lod), -1.0, 1.0);
+        return textureSampleLevel(wire_tex, wire_sampler, vec2<f32>(odd + d, 0.5), layer, level).a;
+    }
+    let level = clamp(ceil(lod), 0.0, top);
+    return textureSampleLevel(wire_tex, wire_sampler, vec2<f32>(x, 0.5), layer, level).a;
 }
 
 fn coverage(x: f32, grad: f32, a: f32) -> f32 {

@@ -4,6 +4,17 @@
 //! that dense meshes do not saturate. Array layers encode depth attenuation (the
 //! paper's second texture axis, Fig. 8): a plain 2D texture would lose that axis at
 //! the small mip levels, whose height shrinks with their width.
+//!
+//! Each level is drawn for two texels per pixel and already filtered by the pixel:
+//! a texel holds the coverage of a one-pixel box (two texels) centred on it. The
+//! paper's level (one texel per pixel, texel-box coverage) cannot draw a 1 px line:
+//! the line's centre is the mirror point between two half-covered texels, and
+//! bilinear filtering makes a 2 px band of half coverage. Two texels per pixel put
+//! samples a quarter pixel either side of the centre, so the bilinear profile is the
+//! box-filtered line to within a few hundredths of a pixel. The shader samples one
+//! level with the coordinate rescaled so that its texels are exactly half a pixel
+//! (see `coverage_texture` in common.wgsl), which keeps the width exact between
+//! levels, where trilinear blending would not.
 
 /// How lines fade with distance from the eye.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -81,15 +92,30 @@ impl WireTextureSpec {
         }
     }
 
-    /// Coverage of each texel of `level` in `layer`: texel `t` spans `[t, t + 1]`, the
-    /// half line spans `[w - h, w]` with `h = min(thickness / 2, cap w)` texels.
+    /// Texels per pixel at the level the shader samples.
+    pub const TEXELS_PER_PIXEL: f32 = 2.0;
+
+    /// Coverage of each texel of `level` in `layer`. The level's `w` texels span one
+    /// coordinate unit; with mirrored repeat the lines sit at texel positions `w`
+    /// (the right end), `-w` and `3w`, each `2h` texels wide with
+    /// `h = min(thickness, cap w)`: a line of `thickness` pixels at two texels per
+    /// pixel, at most `cap` units wide on each side. Texel `t` holds the coverage of
+    /// the box of one pixel (two texels) centred on it, `[t - 0.5, t + 1.5]`.
     pub fn level_coverage(&self, layer: u32, level: u32) -> Vec<f32> {
-        let w = (self.width >> level).max(1);
+        let w = (self.width >> level).max(1) as f32;
         let (thickness, intensity) = self.layer_style(layer);
-        let half = (0.5 * thickness).min(self.cap * w as f32);
-        let start = w as f32 - half;
-        (0..w)
-            .map(|t| ((t + 1) as f32 - start).clamp(0.0, 1.0) * intensity)
+        let half = (0.5 * Self::TEXELS_PER_PIXEL * thickness).min(self.cap * w);
+        let r = 0.5 * Self::TEXELS_PER_PIXEL;
+        let overlap = |a0: f32, a1: f32, b0: f32, b1: f32| (a1.min(b1) - a0.max(b0)).max(0.0);
+        (0..w as u32)
+            .map(|t| {
+                let c = t as f32 + 0.5;
+                let covered: f32 = [-w, w, 3.0 * w]
+                    .iter()
+                    .map(|&line| overlap(c - r, c + r, line - half, line + half))
+                    .sum();
+                (covered / (2.0 * r)).min(1.0) * intensity
+            })
             .collect()
     }
 
@@ -151,15 +177,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn paper_example_thickness_three() {
-        // Fig. 3: thickness 3 -> last texel opaque, its neighbour half.
+    fn thickness_three_at_two_texels_per_pixel() {
+        // A half line of 1.5 px is 3 texels; filtered by a 2-texel box, the last two
+        // texels read 1, then 0.75 and 0.25 across the edge 3 texels from the end.
         let spec = WireTextureSpec {
             thickness: 3.0,
             ..Default::default()
         };
         let l0 = spec.level_coverage(0, 0);
         assert_eq!(l0.len(), 4096);
-        assert_eq!(&l0[4093..], &[0.0, 0.5, 1.0]);
+        assert_eq!(&l0[4090..], &[0.0, 0.0, 0.25, 0.75, 1.0, 1.0]);
     }
 
     #[test]
@@ -171,7 +198,8 @@ mod tests {
         for level in 0..spec.mip_levels() {
             let w = (4096 >> level) as f32;
             let covered: f32 = spec.level_coverage(0, level).iter().sum();
-            let want = (2.5f32).min(w / 3.0);
+            // Half a line: 2.5 px at 2 texels per pixel, or a third of the level.
+            let want = (5.0f32).min(w / 3.0);
             assert!(
                 (covered - want).abs() < 1e-4,
                 "level {level}: {covered} vs {want}"
@@ -188,9 +216,10 @@ mod tests {
             attenuation: Attenuation::Thickness,
             ..Default::default()
         };
+        // Half lines of 2 px and 0.7 px, at 2 texels per pixel.
         let near: f32 = spec.level_coverage(0, 0).iter().sum();
         let far: f32 = spec.level_coverage(ATTENUATION_LAYERS - 1, 0).iter().sum();
-        assert!((near - 2.0).abs() < 1e-4 && (far - 0.7).abs() < 1e-4);
+        assert!((near - 4.0).abs() < 1e-4 && (far - 1.4).abs() < 1e-4);
         let spec = WireTextureSpec {
             attenuation: Attenuation::Intensity,
             ..spec
