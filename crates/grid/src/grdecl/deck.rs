@@ -58,6 +58,19 @@ const UNTIL_EMPTY_RECORD: [&str; 12] = [
     "OPERATE", "OPERATER", "THPRES",
 ];
 
+/// Keywords read with a meaning of their own (besides sections and
+/// [`UNTIL_EMPTY_RECORD`]): a property by one of these names would not read back.
+const HANDLED: [&str; 24] = [
+    "END", "TITLE", "INCLUDE", "SPECGRID", "DIMENS", "COORD", "ZCORN", "ACTNUM", "DXV", "DYV",
+    "DZV", "MAPAXES", "GRIDUNIT", "METRIC", "FIELD", "LAB", "MAPUNITS", "GDORIENT", "BOX",
+    "ENDBOX", "EQUALS", "MULTIPLY", "ADD", "COPY",
+];
+
+/// Does the reader give `kw` a meaning other than "a per-cell property"?
+pub(super) fn is_special(kw: &str) -> bool {
+    HANDLED.contains(&kw) || UNTIL_EMPTY_RECORD.contains(&kw) || Section::from_keyword(kw).is_some()
+}
+
 /// The sections of a `.DATA` deck; `Top` is before any section keyword, which is all
 /// of a plain GRDECL file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -614,7 +627,9 @@ impl Deck<'_> {
         let spec = Spec {
             cap: region.len().min(self.left()),
             default: Some(if kw == "ACTNUM" { 1.0 } else { f32::NAN }),
-            finite: GEOMETRY.contains(&kw),
+            // Sizes and tops are checked when the geometry is built; an infinite
+            // property value is a value (EQUALS and MULTIPLY can make one too).
+            finite: false,
         };
         let values = match numbers::parse(b, start, end, &spec) {
             Ok(v) => v,

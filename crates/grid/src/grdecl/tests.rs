@@ -547,8 +547,13 @@ fn round_trip_is_exact() {
     odd[[1, 0, 1]] = -3.4e38;
     odd[[1, 0, 2]] = f32::MIN_POSITIVE;
     odd[[1, 0, 3]] = -0.0;
+    odd[[0, 0, 2]] = f32::NEG_INFINITY;
     odd[[1, 0, 4]] = f32::INFINITY;
     g.set_property("ODD", odd).unwrap();
+    // A property whose first value is infinite must still look like numeric data.
+    let mut inf = g.property("PORO").unwrap().clone();
+    inf[[0, 0, 0]] = f32::INFINITY;
+    g.set_property("INF", inf).unwrap();
     g.coord[[0, 0, 0]] = 0.1 + 0.2;
     let dir = scratch("roundtrip");
     let path = dir.join("model.grdecl");
@@ -578,6 +583,13 @@ fn round_trip_is_exact() {
         .unwrap();
     let e = write(&bad, &dir.join("bad.grdecl")).unwrap_err();
     assert!(e.to_string().contains("TOO_LONG_NAME"), "{e}");
+    for name in ["ZCORN", "A--B", "FAULTS", "GRID"] {
+        let mut bad = g.clone();
+        bad.properties.clear();
+        bad.set_property(name, g.property("PORO").unwrap().clone())
+            .unwrap();
+        assert!(write(&bad, &dir.join("bad.grdecl")).is_err(), "{name}");
+    }
 }
 
 /// The models in `../shared/data`, or `None` (with a message) when it is absent.

@@ -16,6 +16,7 @@ use std::path::Path;
 use ndarray::Array3;
 use rayon::prelude::*;
 
+use super::deck::is_special;
 use super::lex::keyword;
 use crate::{CornerPointGrid, Error, Result};
 
@@ -26,20 +27,13 @@ const LINE: usize = 100;
 /// Shortest run written as `N*v`: `2*5` is no shorter than `5 5`.
 const RUN: usize = 3;
 
-/// Keywords the reader gives a meaning of their own: a property by one of these
-/// names would not read back as a property.
-const RESERVED: [&str; 38] = [
-    "SPECGRID", "DIMENS", "COORD", "ZCORN", "ACTNUM", "MAPAXES", "MAPUNITS", "GRIDUNIT",
-    "GDORIENT", "INCLUDE", "BOX", "ENDBOX", "EQUALS", "MULTIPLY", "ADD", "COPY", "DXV", "DYV",
-    "DZV", "END", "TITLE", "METRIC", "FIELD", "LAB", "RUNSPEC", "GRID", "EDIT", "PROPS", "REGIONS",
-    "SOLUTION", "SUMMARY", "SCHEDULE", "FAULTS", "MULTFLT", "NNC", "EDITNNC", "OPERATE", "THPRES",
-];
-
 /// Writes `grid` to `path`.
 pub(super) fn write(grid: &CornerPointGrid, path: &Path) -> Result<()> {
     for name in grid.properties.keys() {
+        // `--` would start a comment in the middle of the name.
         if keyword(name.as_bytes()).as_deref() != Some(name.as_str())
-            || RESERVED.contains(&name.as_str())
+            || name.contains("--")
+            || is_special(name)
         {
             return Err(Error::Invalid(format!(
                 "property {name} cannot be written to GRDECL: a keyword is 1 to 8 upper-case \
@@ -162,7 +156,13 @@ impl Put for f32 {
     fn undefined(self) -> bool {
         self.is_nan()
     }
+    /// Infinities are written as a number too large for `f32` (`1e39`), which reads
+    /// back as infinity: a bare `inf` would look like a keyword.
     fn put(self, out: &mut Vec<u8>) {
+        if self.is_infinite() {
+            out.extend_from_slice(if self > 0.0 { b"1e39" } else { b"-1e39" });
+            return;
+        }
         put_float(f64::from(self), self.is_sign_negative(), out, |o| {
             // Writing into a Vec cannot fail.
             let _ = if (1e-5..1e16).contains(&self.abs()) {
@@ -181,7 +181,12 @@ impl Put for f64 {
     fn undefined(self) -> bool {
         self.is_nan()
     }
+    /// Infinities as for `f32`, with `1e309`.
     fn put(self, out: &mut Vec<u8>) {
+        if self.is_infinite() {
+            out.extend_from_slice(if self > 0.0 { b"1e309" } else { b"-1e309" });
+            return;
+        }
         put_float(self, self.is_sign_negative(), out, |o| {
             // Writing into a Vec cannot fail.
             let _ = if (1e-5..1e16).contains(&self.abs()) {
@@ -252,6 +257,8 @@ mod tests {
         );
         assert_eq!(text(&[0.1f64, 456510.625, -2.0]), "0.1 456510.625 -2\n");
         assert_eq!(text(&[true, true, true, false]), "3*1 0\n");
+        assert_eq!(text(&[f32::INFINITY, f32::NEG_INFINITY]), "1e39 -1e39\n");
+        assert_eq!(text(&[f64::NEG_INFINITY]), "-1e309\n");
     }
 
     #[test]
