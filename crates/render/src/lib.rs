@@ -15,7 +15,7 @@ pub use error::{Error, Result};
 pub use glam;
 pub use gpu::Gpu;
 pub use renderer::{Renderer, View};
-pub use style::{Colormap, Coverage, Style, parse_color, wire_mode_names};
+pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
 pub use wire::{Attenuation, WireMode};
 
 /// Writes pixels as a PNG file.

@@ -296,6 +296,13 @@ impl Renderer {
         view: &View,
         style: &Style,
     ) -> Result<wgpu::CommandEncoder> {
+        if let Some(item) = items.iter().find(|i| !i.supports(style.hidden)) {
+            return Err(Error::Invalid(format!(
+                "the wireframe technique of a {}-triangle mesh cannot draw hidden lines as {} (the texture techniques draw tehs only)",
+                item.triangles(),
+                style.hidden.name()
+            )));
+        }
         self.set_frame(view, style)?;
         let targets = self
             .targets
@@ -332,6 +339,7 @@ impl Renderer {
             frame_bind_group: &self.bind_group,
             width: view.width,
             height: view.height,
+            style,
         };
         for item in items {
             item.encode(&frame, &mut encoder);

@@ -11,6 +11,58 @@ pub enum Coverage {
     Analytic,
 }
 
+/// Hidden-line styles of Rossignac & van Emmerik (1992): which edges are drawn, and
+/// how the hidden ones look. Contour edges are those of the surface outline (edges with
+/// one triangle) and of its silhouette (the two triangles face opposite ways).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum HiddenLines {
+    /// TEHS: every edge, hidden ones suppressed.
+    #[default]
+    Suppressed,
+    /// TEHD: every edge, hidden ones dashed.
+    Dashed,
+    /// CEHS: contour edges only, hidden ones suppressed.
+    ContoursSuppressed,
+    /// CEHD: contour edges only, hidden ones dashed.
+    ContoursDashed,
+}
+
+impl HiddenLines {
+    pub const ALL: [(&'static str, HiddenLines); 4] = [
+        ("tehs", HiddenLines::Suppressed),
+        ("tehd", HiddenLines::Dashed),
+        ("cehs", HiddenLines::ContoursSuppressed),
+        ("cehd", HiddenLines::ContoursDashed),
+    ];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL
+            .iter()
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
+            .map(|&(_, h)| h)
+    }
+
+    pub fn name(self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, h)| *h == self)
+            .map_or("tehs", |(n, _)| n)
+    }
+
+    /// Only contour edges are drawn.
+    pub fn contours_only(self) -> bool {
+        matches!(
+            self,
+            HiddenLines::ContoursSuppressed | HiddenLines::ContoursDashed
+        )
+    }
+
+    /// Hidden edges are drawn, dashed.
+    pub fn dashed(self) -> bool {
+        matches!(self, HiddenLines::Dashed | HiddenLines::ContoursDashed)
+    }
+}
+
 /// Colour maps for properties (from the `colorous` crate).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Colormap {
@@ -82,6 +134,8 @@ pub struct Style {
     pub cap: f32,
     /// Width of the wireframe texture's level 0.
     pub texture_width: u32,
+    /// Which edges are drawn and how hidden ones look (not every technique has all).
+    pub hidden: HiddenLines,
 }
 
 impl Default for Style {
@@ -98,6 +152,7 @@ impl Default for Style {
             background: [1.0, 1.0, 1.0, 1.0],
             cap: 1.0 / 3.0,
             texture_width: 4096,
+            hidden: HiddenLines::Suppressed,
         }
     }
 }

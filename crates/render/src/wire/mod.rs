@@ -2,7 +2,11 @@
 //! they all implement [`Technique`], and [`create`] is the one registration point the
 //! renderer, the command line, the tests and the benchmarks iterate over.
 
+mod bias;
+mod distance;
+mod idbuffer;
 pub mod labels;
+mod lines;
 mod texture;
 mod wire_texture;
 
@@ -10,7 +14,7 @@ pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;
 
-use crate::{Gpu, Result};
+use crate::{Gpu, HiddenLines, Result, Style};
 
 /// The wireframe techniques.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -26,15 +30,27 @@ pub enum WireMode {
     Tex,
     /// Per-triangle coordinates made while pulling vertices (no duplication).
     TexGs,
+    /// Classic two passes: the fill pushed back by a depth bias, then line primitives
+    /// (screen-space quads for lines wider than a pixel).
+    Bias,
+    /// Bærentzen's single pass: each fragment's window-space distance to its
+    /// triangle's real edges, with Gateau's case for vertices behind the eye.
+    Dist,
+    /// Bærentzen's ID-buffer method: polygon IDs, then line quads kept where the ID
+    /// matches or the depth test passes, then shading.
+    IdBuffer,
 }
 
 impl WireMode {
-    pub const ALL: [WireMode; 5] = [
+    pub const ALL: [WireMode; 8] = [
         WireMode::None,
         WireMode::Global,
         WireMode::Quad,
         WireMode::Tex,
         WireMode::TexGs,
+        WireMode::Bias,
+        WireMode::Dist,
+        WireMode::IdBuffer,
     ];
 
     pub fn name(self) -> &'static str {
@@ -44,6 +60,9 @@ impl WireMode {
             WireMode::Quad => "quad",
             WireMode::Tex => "tex",
             WireMode::TexGs => "texgs",
+            WireMode::Bias => "bias",
+            WireMode::Dist => "dist",
+            WireMode::IdBuffer => "idbuffer",
         }
     }
 
@@ -72,6 +91,8 @@ pub struct FrameTargets<'a> {
     pub frame_bind_group: &'a wgpu::BindGroup,
     pub width: u32,
     pub height: u32,
+    /// The frame's style, for techniques whose passes depend on it (hidden lines).
+    pub style: &'a Style,
 }
 
 impl FrameTargets<'_> {
@@ -123,6 +144,11 @@ pub trait Drawable {
     fn triangles(&self) -> usize;
     /// Bytes uploaded for this mesh (what immediate mode sends every frame).
     fn bytes(&self) -> u64;
+    /// Whether this drawable can show hidden lines as `hidden` asks; the texture
+    /// techniques draw lines only on visible polygon fragments (hidden suppressed).
+    fn supports(&self, hidden: HiddenLines) -> bool {
+        hidden == HiddenLines::Suppressed
+    }
 }
 
 /// The registry: the technique of `mode`.
@@ -132,6 +158,9 @@ pub fn create(mode: WireMode, ctx: &PipelineContext) -> Box<dyn Technique> {
             Box::new(texture::VertexTechnique::new(mode, ctx))
         }
         WireMode::TexGs => Box::new(texture::PulledTechnique::new(ctx)),
+        WireMode::Bias => Box::new(bias::BiasTechnique::new(ctx)),
+        WireMode::Dist => Box::new(distance::DistTechnique::new(ctx)),
+        WireMode::IdBuffer => Box::new(idbuffer::IdBufferTechnique::new(ctx)),
     }
 }
 

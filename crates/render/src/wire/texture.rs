@@ -17,7 +17,7 @@ use crate::{Error, Gpu, Result};
 /// The value written for an undefined scalar (see `UNDEFINED_SCALAR` in common.wgsl).
 const UNDEFINED_SCALAR: f32 = -3.0e38;
 
-fn scalar_at(mesh: &SurfaceMesh, v: usize) -> f32 {
+pub(super) fn scalar_at(mesh: &SurfaceMesh, v: usize) -> f32 {
     match mesh.scalars.get(v) {
         Some(s) if s.is_finite() => *s,
         Some(_) => UNDEFINED_SCALAR,
