@@ -656,6 +656,19 @@ fn real_grdecl_files() {
     assert_eq!(g.units, Units::Metres);
     assert_eq!(g.mapaxes.unwrap().origin, [456510.625, 5926880.172]);
     assert_eq!(g.coord[[0, 0, 0]], 0.448);
+    // The first two corners of cell (1,1,1) in map coordinates, as xtgeo 4.27 gives
+    // them (`get_xyz_corners`) for the same file.
+    let c = g.cell_corners(0, 0, 0);
+    let xtgeo = [
+        [456511.073, 5935688.224, 1726.187],
+        [456651.256, 5935769.156, 1726.715],
+    ];
+    for (got, want) in c.iter().zip(xtgeo) {
+        assert!(
+            (0..3).all(|a| (got[a] - want[a]).abs() < 2e-3),
+            "{got:?} vs {want:?}"
+        );
+    }
     let g = read(
         &data.join("emerald/eme_small_w_hole_grid_params.grdecl"),
         &ReadOptions::default(),
