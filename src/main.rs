@@ -39,6 +39,16 @@ enum BenchCommand {
         #[arg(long)]
         data: Option<PathBuf>,
     },
+    /// Frame times of every wireframe technique against the shaded surface alone, in
+    /// retained and immediate mode (Celes & Abraham's Tables 3 and 2).
+    Wire {
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// One 1M-triangle model and a few frames (under two minutes), not the full run.
+        #[arg(long)]
+        quick: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -48,6 +58,7 @@ fn main() -> ExitCode {
         Command::Synth(args) => cli::synth::run(&args),
         Command::Render(args) => cli::render::run(&args),
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
+        Command::Bench(BenchCommand::Wire { json, quick }) => bench_wire(json, quick),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -66,6 +77,17 @@ fn bench_io(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         strata::bench::io::print_table(&report);
+    }
+    Ok(())
+}
+
+fn bench_wire(json: bool, quick: bool) -> anyhow::Result<()> {
+    use strata::bench::wire;
+    let report = wire::run(if quick { &wire::QUICK } else { &wire::FULL })?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        wire::print_table(&report);
     }
     Ok(())
 }

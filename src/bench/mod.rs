@@ -2,3 +2,5 @@
 //! with `--json`), run on demand and never as pass/fail timing in CI.
 
 pub mod io;
+pub mod meshes;
+pub mod wire;

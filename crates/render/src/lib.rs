@@ -7,6 +7,7 @@ mod error;
 mod gpu;
 mod renderer;
 mod style;
+mod timing;
 pub mod wire;
 
 pub use camera::Camera;
@@ -16,6 +17,7 @@ pub use glam;
 pub use gpu::Gpu;
 pub use renderer::{Renderer, View};
 pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
+pub use timing::{FrameTime, FrameTimer};
 pub use wire::{Attenuation, WireMode};
 
 /// Writes pixels as a PNG file.

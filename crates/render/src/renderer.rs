@@ -11,6 +11,7 @@ use crate::wire::{
     self, COLOR_FORMAT, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique, WireMode,
     WireTextureSpec,
 };
+use crate::timing::{FrameTime, FrameTimer};
 use crate::{Camera, Colormap, Coverage, Error, Gpu, Result, Style};
 
 /// What to look at: camera, image size, and the scene's bounds (unscaled display
@@ -352,6 +353,18 @@ impl Renderer {
         let encoder = self.encode_frame(items, view, style)?;
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu.wait()
+    }
+
+    /// Draws a frame and waits for it, timed by `timer` (benchmarks).
+    pub fn draw_timed(
+        &mut self,
+        items: &[&dyn Drawable],
+        view: &View,
+        style: &Style,
+        timer: &FrameTimer,
+    ) -> Result<FrameTime> {
+        let encoder = self.encode_frame(items, view, style)?;
+        timer.submit(&self.gpu, encoder)
     }
 
     /// Draws a frame and returns its pixels (RGBA8, rows top to bottom).

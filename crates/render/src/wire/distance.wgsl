@@ -156,24 +156,11 @@ fn line_distance(f: vec2<f32>, p: vec2<f32>, dir: vec2<f32>) -> f32 {
     return abs(q.x * dir.y - q.y * dir.x);
 }
 
-// The fragment's distance to the nearest drawn edge, and that edge's direction in the
-// window (for dashes).
+// The fragment's distance to the nearest drawn edge, and in Gateau's case that edge's
+// direction in the window (for dashes; zero in the standard case).
 fn nearest_edge(in: DistOut) -> vec3<f32> {
-    // Derivatives first: they need uniform control flow.
-    let gx = dpdx(in.dist);
-    let gy = dpdy(in.dist);
     if in.lines == 0u {
-        var k = 0u;
-        if in.dist.y < in.dist[k] {
-            k = 1u;
-        }
-        if in.dist.z < in.dist[k] {
-            k = 2u;
-        }
-        // The distance grows across the edge: the edge runs perpendicular to its gradient.
-        let g = vec2<f32>(gx[k], gy[k]);
-        let dir = vec2<f32>(-g.y, g.x) / max(length(g), 1.0e-12);
-        return vec3<f32>(in.dist[k], dir);
+        return vec3<f32>(min(in.dist.x, min(in.dist.y, in.dist.z)), 0.0, 0.0);
     }
     let f = in.position.xy;
     var best = vec3<f32>(FAR, 1.0, 0.0);
@@ -197,6 +184,21 @@ fn nearest_edge(in: DistOut) -> vec3<f32> {
     return best;
 }
 
+// Direction in the window of the edge nearest the fragment in the standard case: the
+// distance to an edge grows across it, so the edge runs perpendicular to the gradient
+// of its distance. `gx`, `gy`: the derivatives of `dist`.
+fn edge_direction(dist: vec3<f32>, gx: vec3<f32>, gy: vec3<f32>) -> vec2<f32> {
+    var k = 0u;
+    if dist.y < dist[k] {
+        k = 1u;
+    }
+    if dist.z < dist[k] {
+        k = 2u;
+    }
+    let g = vec2<f32>(gx[k], gy[k]);
+    return vec2<f32>(-g.y, g.x) / max(length(g), 1.0e-12);
+}
+
 @fragment
 fn fs_dist(in: DistOut) -> @location(0) vec4<f32> {
     let dpx = dpdx(in.wp);
@@ -211,7 +213,14 @@ fn fs_dist(in: DistOut) -> @location(0) vec4<f32> {
 // their edges, dashed, over the frame.
 @fragment
 fn fs_dist_hidden(in: DistOut) -> @location(0) vec4<f32> {
+    // Derivatives first: they need uniform control flow.
+    let gx = dpdx(in.dist);
+    let gy = dpdy(in.dist);
     let edge = nearest_edge(in);
+    var dir = edge.yz;
+    if in.lines == 0u {
+        dir = edge_direction(in.dist, gx, gy);
+    }
     let hw = line_half(in.wp);
-    return line_color(in.scalar, falloff(edge.x, hw.x) * hw.y * dash(in.position.xy, edge.yz));
+    return line_color(in.scalar, falloff(edge.x, hw.x) * hw.y * dash(in.position.xy, dir));
 }

@@ -1,0 +1,311 @@
+//! `strata bench wire`: frame times of every wireframe technique against the shaded
+//! surface alone, on meshes of about 0.1, 0.4, 1 and 4 million triangles, in retained
+//! mode (geometry resident) and immediate mode (vertex data sent every frame), as
+//! Tables 3 and 2 of Celes & Abraham (2011).
+//!
+//! Each frame is 1000 x 800 with the camera turning 360° around the model. The modes
+//! take turns frame by frame (every mode draws angle 1, then every mode angle 2 ...),
+//! so that whatever else loads the machine weighs on all of them alike: only ratios
+//! between modes of one run mean anything on a CPU rasterizer (DESIGN.md section 5).
+//! Retained frames are timed by GPU timestamps around the frame's commands where the
+//! adapter has them, else by the wall clock around submit and wait; immediate frames
+//! by the wall clock around the upload, submit and wait, since the upload is the point.
+//! Immediate mode sends each mesh's `Drawable::bytes()` through the queue before
+//! drawing (`FrameTimer::upload`).
+//!
+//! The texture modes run with both forms of coverage (DESIGN.md section 3): `tex`,
+//! `texgs`, `global` with the mip-mapped texture and `tex-analytic` ... evaluated in
+//! the shader; the benchmark shows which form wins on the adapter.
+
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+use strata_render::glam::Vec3;
+use strata_render::wire::Drawable;
+use strata_render::{Camera, Coverage, FrameTimer, Renderer, Style, View, WireMode};
+
+use super::meshes::{self, Kind};
+
+const WIDTH: u32 = 1000;
+const HEIGHT: u32 = 800;
+/// Camera elevation above the horizon, degrees.
+const ELEVATION: f32 = 30.0;
+
+/// What `--json` prints.
+#[derive(Debug, Serialize)]
+pub struct WireReport {
+    pub adapter: String,
+    pub backend: String,
+    pub results: Vec<WireResult>,
+}
+
+/// One mesh, mode and upload.
+#[derive(Debug, Serialize)]
+pub struct WireResult {
+    pub mesh: String,
+    pub triangles: usize,
+    pub mode: String,
+    /// `retained` or `immediate`.
+    pub upload: &'static str,
+    pub ms_median: f64,
+    pub ms_p10: f64,
+    pub ms_p90: f64,
+    /// Median over the median of `none` for the same mesh and upload.
+    pub ratio_to_none: f64,
+}
+
+/// A timed mode: a technique and, for the texture ones, the coverage form.
+#[derive(Clone, Copy, Debug)]
+struct Variant {
+    mode: WireMode,
+    coverage: Coverage,
+}
+
+impl Variant {
+    fn name(self) -> String {
+        match (self.mode, self.coverage) {
+            (WireMode::Tex | WireMode::TexGs | WireMode::Global, Coverage::Analytic) => {
+                format!("{}-analytic", self.mode.name())
+            }
+            (m, _) => m.name().to_string(),
+        }
+    }
+}
+
+/// The modes timed on a mesh of `kind`, `none` first.
+fn variants(kind: Kind) -> Vec<Variant> {
+    let mut out: Vec<Variant> = [
+        WireMode::None,
+        WireMode::Bias,
+        WireMode::Dist,
+        WireMode::IdBuffer,
+    ]
+    .into_iter()
+    .map(|mode| Variant {
+        mode,
+        coverage: Coverage::Texture,
+    })
+    .collect();
+    let mut texture = vec![WireMode::Tex, WireMode::TexGs];
+    if kind.has_global() {
+        texture.push(WireMode::Global);
+    }
+    for mode in texture {
+        for coverage in [Coverage::Texture, Coverage::Analytic] {
+            out.push(Variant { mode, coverage });
+        }
+    }
+    out
+}
+
+/// How much to run.
+#[derive(Clone, Copy, Debug)]
+pub struct Plan {
+    pub sizes: &'static [(usize, &'static str)],
+    pub kinds: &'static [Kind],
+    pub warmup: usize,
+    pub frames: usize,
+}
+
+/// The full benchmark: every size and kind, 60 timed frames after 3 of warm-up.
+pub const FULL: Plan = Plan {
+    sizes: &[
+        (100_000, "0.1m"),
+        (400_000, "0.4m"),
+        (1_000_000, "1m"),
+        (4_000_000, "4m"),
+    ],
+    kinds: &Kind::ALL,
+    warmup: 3,
+    frames: 60,
+};
+
+/// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up (under two
+/// minutes on the development machine's CPU rasterizer).
+pub const QUICK: Plan = Plan {
+    sizes: &[(1_000_000, "1m")],
+    kinds: &[Kind::Reservoir],
+    warmup: 1,
+    frames: 4,
+};
+
+/// Runs `plan`, reporting progress on stderr.
+pub fn run(plan: &Plan) -> Result<WireReport> {
+    let mut renderer = Renderer::headless()?;
+    let timer = FrameTimer::new(&renderer.gpu);
+    eprintln!(
+        "bench wire on {}, {}",
+        renderer.gpu.describe(),
+        if timer.has_timestamps() {
+            "retained frames timed by GPU timestamps"
+        } else {
+            "retained frames timed by the wall clock"
+        }
+    );
+    let mut results = Vec::new();
+    for &(size, label) in plan.sizes {
+        for &kind in plan.kinds {
+            let started = Instant::now();
+            let bench = meshes::make(kind, size, label)?;
+            results.extend(time_mesh(&mut renderer, &timer, &bench, plan)?);
+            eprintln!(
+                "  {}: {} triangles in {:.0} s",
+                bench.name,
+                bench.mesh.triangle_count(),
+                started.elapsed().as_secs_f64()
+            );
+        }
+    }
+    Ok(WireReport {
+        adapter: renderer.gpu.info.name.clone(),
+        backend: format!("{:?}", renderer.gpu.info.backend).to_lowercase(),
+        results,
+    })
+}
+
+fn time_mesh(
+    renderer: &mut Renderer,
+    timer: &FrameTimer,
+    bench: &meshes::BenchMesh,
+    plan: &Plan,
+) -> Result<Vec<WireResult>> {
+    let mesh = &bench.mesh;
+    let variants = variants(bench.kind);
+    let mut drawables: Vec<(WireMode, Box<dyn Drawable>)> = Vec::new();
+    for v in &variants {
+        if drawables.iter().all(|(m, _)| *m != v.mode) {
+            let d = renderer
+                .prepare(mesh, v.mode)
+                .with_context(|| format!("{}: preparing {}", bench.name, v.mode.name()))?;
+            drawables.push((v.mode, d));
+        }
+    }
+    let drawable = |mode: WireMode| {
+        drawables
+            .iter()
+            .find(|(m, _)| *m == mode)
+            .map(|(_, d)| d.as_ref())
+    };
+    let (lo, hi) = mesh
+        .bounds()
+        .with_context(|| format!("{} is empty", bench.name))?;
+    let bounds = (Vec3::from(lo), Vec3::from(hi));
+    let largest = drawables.iter().map(|(_, d)| d.bytes()).max().unwrap_or(0);
+    let payload = vec![0u8; largest as usize];
+    let mut results = Vec::new();
+    for upload in ["retained", "immediate"] {
+        let mut samples = vec![Vec::with_capacity(plan.frames); variants.len()];
+        for f in 0..plan.warmup + plan.frames {
+            let azimuth = 360.0 * f as f32 / (plan.warmup + plan.frames) as f32;
+            let view = View {
+                camera: Camera::fit(
+                    bounds.0,
+                    bounds.1,
+                    bench.kind.z_scale(),
+                    WIDTH as f32 / HEIGHT as f32,
+                    (azimuth, ELEVATION),
+                    1.0,
+                ),
+                width: WIDTH,
+                height: HEIGHT,
+                bounds,
+            };
+            for (k, v) in variants.iter().enumerate() {
+                let Some(item) = drawable(v.mode) else {
+                    continue;
+                };
+                let style = Style {
+                    coverage: v.coverage,
+                    ..Style::default()
+                };
+                let ms = if upload == "immediate" {
+                    let start = Instant::now();
+                    timer.upload(&renderer.gpu, &payload[..item.bytes() as usize]);
+                    renderer.draw_timed(&[item], &view, &style, timer)?;
+                    start.elapsed().as_secs_f64() * 1e3
+                } else {
+                    renderer
+                        .draw_timed(&[item], &view, &style, timer)?
+                        .best_ms()
+                };
+                if f >= plan.warmup {
+                    samples[k].push(ms);
+                }
+            }
+        }
+        let none = median(&mut samples[0].clone());
+        for (v, mut s) in variants.iter().zip(samples) {
+            s.sort_by(f64::total_cmp);
+            let m = percentile(&s, 0.5);
+            results.push(WireResult {
+                mesh: bench.name.clone(),
+                triangles: mesh.triangle_count(),
+                mode: v.name(),
+                upload,
+                ms_median: round3(m),
+                ms_p10: round3(percentile(&s, 0.1)),
+                ms_p90: round3(percentile(&s, 0.9)),
+                ratio_to_none: round3(m / none),
+            });
+        }
+    }
+    Ok(results)
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    percentile(v, 0.5)
+}
+
+/// The `q` quantile of sorted values (nearest rank, interpolated).
+fn percentile(sorted: &[f64], q: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let x = q * (sorted.len() - 1) as f64;
+    let (i, f) = (x.floor() as usize, x.fract());
+    let next = sorted[(i + 1).min(sorted.len() - 1)];
+    sorted[i] + f * (next - sorted[i])
+}
+
+fn round3(x: f64) -> f64 {
+    (x * 1e3).round() / 1e3
+}
+
+/// Prints the report as a table, one line per mesh, mode and upload.
+pub fn print_table(report: &WireReport) {
+    println!("{} ({})", report.adapter, report.backend);
+    println!(
+        "{:<16} {:>9} {:<16} {:<9} {:>10} {:>10} {:>10} {:>7}",
+        "mesh", "triangles", "mode", "upload", "median ms", "p10", "p90", "x none"
+    );
+    for r in &report.results {
+        println!(
+            "{:<16} {:>9} {:<16} {:<9} {:>10.1} {:>10.1} {:>10.1} {:>7.2}",
+            r.mesh, r.triangles, r.mode, r.upload, r.ms_median, r.ms_p10, r.ms_p90, r.ratio_to_none
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_interpolate_between_ranks() {
+        let v = [1.0, 2.0, 3.0, 4.0, 5.0];
+        assert_eq!(percentile(&v, 0.5), 3.0);
+        assert_eq!(percentile(&v, 0.1), 1.4);
+        assert_eq!(percentile(&v, 0.9), 4.6);
+        assert!(percentile(&[], 0.5).is_nan());
+    }
+
+    #[test]
+    fn global_is_timed_only_where_the_mesh_has_global_coordinates() {
+        let has = |kind| variants(kind).iter().any(|v| v.mode == WireMode::Global);
+        assert!(!has(Kind::Sphere));
+        assert!(has(Kind::Terrain) && has(Kind::Reservoir));
+        assert_eq!(variants(Kind::Sphere)[0].name(), "none");
+    }
+}
