@@ -12,6 +12,7 @@ mod grid;
 mod mesh;
 pub mod surface;
 pub mod synth;
+pub mod terrain;
 
 use std::path::Path;
 
@@ -21,6 +22,7 @@ pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;
 pub use surface::{Face, layer_surface, layer_surfaces, side_surfaces};
+pub use terrain::{Terrain, TerrainInput, TerrainSynth};
 
 /// What to read besides the grid geometry.
 #[derive(Clone, Debug)]
