@@ -3,8 +3,11 @@
 //! section 3). Headless by default; frames come back as RGBA pixels and PNG files.
 
 mod camera;
+pub mod contour;
 mod error;
 mod gpu;
+mod gridlines;
+mod isoline;
 mod renderer;
 mod style;
 mod timing;
@@ -15,6 +18,8 @@ pub use error::{Error, Result};
 /// The vector crate of the public API (cameras and bounds are `glam` types).
 pub use glam;
 pub use gpu::Gpu;
+pub use gridlines::GridLines;
+pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
 pub use renderer::{Renderer, View};
 pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
 pub use timing::{FrameTime, FrameTimer};

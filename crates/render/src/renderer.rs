@@ -7,11 +7,12 @@ use glam::Vec3;
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
 
+use crate::isoline::{IsolineOptions, IsolineTechnique, RangeAdjust};
+use crate::timing::{FrameTime, FrameTimer};
 use crate::wire::{
     self, COLOR_FORMAT, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique, WireMode,
     WireTextureSpec,
 };
-use crate::timing::{FrameTime, FrameTimer};
 use crate::{Camera, Colormap, Coverage, Error, Gpu, Result, Style};
 
 /// What to look at: camera, image size, and the scene's bounds (unscaled display
@@ -36,6 +37,11 @@ struct FrameUniforms {
     line: [f32; 4],
     atten: [f32; 4],
     scalar: [f32; 4],
+    // Isolines and map grid lines (isoline.rs, gridlines.rs); w = 0: not drawn.
+    iso: [f32; 4],
+    iso_color: [f32; 4],
+    grid: [f32; 4],
+    grid_color: [f32; 4],
 }
 
 impl FrameUniforms {
@@ -84,6 +90,10 @@ impl FrameUniforms {
                 layers as f32,
             ],
             scalar: [smin, sinv, by_scalar, 0.0],
+            iso: style.isolines.map_or([0.0; 4], |i| i.uniform()),
+            iso_color: style.isolines.map_or([0.0; 4], |i| i.color),
+            grid: style.grid_lines.map_or([0.0; 4], |g| g.uniform()),
+            grid_color: style.grid_lines.map_or([0.0; 4], |g| g.color),
         }
     }
 }
@@ -111,6 +121,7 @@ pub struct Renderer {
     colormap_view: wgpu::TextureView,
     bind_group: wgpu::BindGroup,
     techniques: HashMap<WireMode, Box<dyn Technique>>,
+    isolines: Option<IsolineTechnique>,
     targets: Option<Targets>,
 }
 
@@ -122,7 +133,9 @@ impl Renderer {
             entries: &[
                 wgpu::BindGroupLayoutEntry {
                     binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    // Compute too: the isoline range adjust projects triangles.
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
+                        .union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
@@ -190,6 +203,7 @@ impl Renderer {
             colormap_view,
             bind_group,
             techniques: HashMap::new(),
+            isolines: None,
             targets: None,
         })
     }
@@ -212,6 +226,104 @@ impl Renderer {
             return Err(Error::Gpu(e.to_string()));
         }
         prepared
+    }
+
+    /// What a technique outside the wire registry (e.g. the contour baseline) needs
+    /// to build pipelines that draw into this renderer's frames.
+    pub fn context(&self) -> PipelineContext<'_> {
+        PipelineContext {
+            gpu: &self.gpu,
+            frame_layout: &self.frame_layout,
+        }
+    }
+
+    /// Uploads `mesh` for drawing with range-adjusted isolines (isoline.rs): the
+    /// shaded surface, the isolines of `field` (3 values per triangle, one per corner,
+    /// in triangle order; `None`: `mesh.scalars`) and, with `options.wire`, the
+    /// wireframe of the global coordinates. The frame's `Style::isolines` says which
+    /// lines; without it only the surface (and wire) is drawn.
+    pub fn prepare_isolines(
+        &mut self,
+        mesh: &SurfaceMesh,
+        field: Option<&[f32]>,
+        options: IsolineOptions,
+    ) -> Result<Box<dyn Drawable>> {
+        let scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let technique = match self.isolines.take() {
+            Some(t) => t,
+            None => IsolineTechnique::new(&PipelineContext {
+                gpu: &self.gpu,
+                frame_layout: &self.frame_layout,
+            }),
+        };
+        let prepared = technique.prepare(&self.gpu, mesh, field, options);
+        self.isolines = Some(technique);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        Ok(Box::new(prepared?))
+    }
+
+    /// Runs the isoline range adjust alone for `view` and `style` and returns the
+    /// adjusted coordinate of every triangle corner (3 per triangle): what the
+    /// isoline technique draws, for checking the adjust and timing it.
+    pub fn isoline_coordinates(
+        &mut self,
+        mesh: &SurfaceMesh,
+        field: Option<&[f32]>,
+        adjust: RangeAdjust,
+        view: &View,
+        style: &Style,
+    ) -> Result<Vec<f32>> {
+        let technique = match self.isolines.take() {
+            Some(t) => t,
+            None => IsolineTechnique::new(&PipelineContext {
+                gpu: &self.gpu,
+                frame_layout: &self.frame_layout,
+            }),
+        };
+        let prepared = technique.prepare(
+            &self.gpu,
+            mesh,
+            field,
+            IsolineOptions {
+                adjust,
+                wire: false,
+            },
+        );
+        self.isolines = Some(technique);
+        let draw = prepared?;
+        self.set_frame(view, style)?;
+        let size = draw.adjusted.size();
+        let readback = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("isoline coordinates readback"),
+            size,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        draw.encode_prepass(&self.bind_group, &mut encoder);
+        encoder.copy_buffer_to_buffer(&draw.adjusted, 0, &readback, 0, size);
+        self.gpu.queue.submit([encoder.finish()]);
+        let slice = readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.gpu.wait()?;
+        rx.recv()
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .map_err(|e| Error::Gpu(e.to_string()))?;
+        let values = bytemuck::cast_slice::<u8, f32>(
+            &slice
+                .get_mapped_range()
+                .map_err(|e| Error::Gpu(e.to_string()))?,
+        )
+        .to_vec();
+        Ok(values)
     }
 
     /// Creates the technique of `mode` on first use.
@@ -238,6 +350,18 @@ impl Renderer {
             return Err(Error::Invalid(format!(
                 "line thickness {} is below 0.5 px",
                 style.thickness
+            )));
+        }
+        if style.isolines.is_some_and(|i| i.validate().is_none()) {
+            return Err(Error::Invalid(format!(
+                "isolines {:?}: the spacing must be positive and finite",
+                style.isolines
+            )));
+        }
+        if style.grid_lines.is_some_and(|g| g.validate().is_none()) {
+            return Err(Error::Invalid(format!(
+                "grid lines {:?}: the spacing must be positive and the origins finite",
+                style.grid_lines
             )));
         }
         let spec = WireTextureSpec {

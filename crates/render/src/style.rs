@@ -1,6 +1,7 @@
 //! How a frame looks: line style, colours, colour map.
 
 use crate::wire::{Attenuation, WireMode};
+use crate::{GridLines, Isolines};
 
 /// How line coverage is computed in the fragment shader (DESIGN.md section 3): from
 /// the mip-mapped wireframe texture, or analytically from the coordinate's gradient.
@@ -136,6 +137,10 @@ pub struct Style {
     pub texture_width: u32,
     /// Which edges are drawn and how hidden ones look (not every technique has all).
     pub hidden: HiddenLines,
+    /// Isolines of the per-vertex scalar (or of the isoline technique's field).
+    pub isolines: Option<Isolines>,
+    /// Map grid lines.
+    pub grid_lines: Option<GridLines>,
 }
 
 impl Default for Style {
@@ -153,6 +158,8 @@ impl Default for Style {
             cap: 1.0 / 3.0,
             texture_width: 4096,
             hidden: HiddenLines::Suppressed,
+            isolines: None,
+            grid_lines: None,
         }
     }
 }

@@ -20,6 +20,15 @@ struct Frame {
     atten: vec4<f32>,
     // x: scalar at the colour map's start; y: 1 / range; z: 1 colour by scalar.
     scalar: vec4<f32>,
+    // Isolines (isoline.rs): x: 2 / spacing; y: offset (a line's value); z: every
+    // z-th line is major (0: none); w: 1 drawn, 0 not.
+    iso: vec4<f32>,
+    // Isoline colour; alpha scales major lines, half of it minor ones.
+    iso_color: vec4<f32>,
+    // Map grid lines (gridlines.rs): x, y: offsets added to the display frame's x and
+    // y; z: 2 / spacing; w: 1 drawn, 0 not.
+    grid: vec4<f32>,
+    grid_color: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -149,4 +158,61 @@ fn compose(base: vec4<f32>, lit: vec3<f32>, cov: f32) -> vec4<f32> {
         return vec4<f32>(base.rgb, cov);
     }
     return vec4<f32>(mix(lit, frame.wire_color.rgb, cov * frame.wire_color.a), 1.0);
+}
+
+// Lines decoupled from the mesh (Celes & Abraham 2011 section 6): isolines of a
+// scalar and map grid lines, with the wireframe's coverage, so that they keep its
+// thickness in pixels. The scalar goes through the texture matrix to the coordinate
+// s = 2 (f - offset) / spacing + 1, odd on the isolines; the isoline technique
+// (isoline.rs) passes its range-adjusted s instead.
+fn iso_coordinate(scalar: f32) -> f32 {
+    return (scalar - frame.iso.y) * frame.iso.x + 1.0;
+}
+
+// Isolines of the coordinate `s` (not drawn where `defined` is false) and grid lines
+// at the display-frame position `wp`, as a premultiplied colour and its coverage.
+// Major isolines (every frame.iso.z-th, counted from the offset) are drawn at full
+// opacity, the others at half: one texture serves both.
+fn extra_lines(wp: vec3<f32>, s: f32, defined: bool, a: f32) -> vec4<f32> {
+    return extra_lines_floored(wp, s, defined, a, 0.0);
+}
+
+// extra_lines with the isolines' gradient floored at `min_grad` units per pixel (the
+// isoline technique's way of sampling as the paper does, see isoline.wgsl).
+fn extra_lines_floored(wp: vec3<f32>, s: f32, defined: bool, a: f32, min_grad: f32) -> vec4<f32> {
+    // Derivatives only under the uniform switches: frames without these lines pay
+    // nothing for them.
+    var iso = 0.0;
+    if frame.iso.w > 0.5 {
+        let ds = max(length(vec2<f32>(dpdx(s), dpdy(s))), min_grad);
+        // The nearest line is 2 floor(s / 2) + 1, the floor(s / 2)-th from the offset.
+        let index = floor(0.5 * s);
+        let every = frame.iso.z;
+        let major = every < 1.5 || abs(index - every * round(index / every)) < 0.5;
+        if defined {
+            iso = coverage(s, ds, a) * frame.iso_color.a * select(0.5, 1.0, major);
+        }
+    }
+    var grid = 0.0;
+    if frame.grid.w > 0.5 {
+        let k = frame.grid.z;
+        let dx = length(vec2<f32>(dpdx(wp.x), dpdy(wp.x))) * k;
+        let dy = length(vec2<f32>(dpdx(wp.y), dpdy(wp.y))) * k;
+        let gx = coverage((wp.x + frame.grid.x) * k + 1.0, dx, a);
+        let gy = coverage((wp.y + frame.grid.y) * k + 1.0, dy, a);
+        grid = union2(gx, gy) * frame.grid_color.a;
+    }
+    // Grid lines over isolines.
+    let rgb = frame.grid_color.rgb * grid + frame.iso_color.rgb * iso * (1.0 - grid);
+    return vec4<f32>(rgb, union2(iso, grid));
+}
+
+// compose() with lines decoupled from the mesh laid over the wireframe: `extra` is
+// extra_lines' premultiplied colour and coverage.
+fn compose_lines(base: vec4<f32>, lit: vec3<f32>, cov: f32, extra: vec4<f32>) -> vec4<f32> {
+    if frame.line.w > 0.5 {
+        return vec4<f32>(base.rgb, union2(cov, extra.a));
+    }
+    let wired = mix(lit, frame.wire_color.rgb, cov * frame.wire_color.a);
+    return vec4<f32>(wired * (1.0 - extra.a) + extra.rgb, 1.0);
 }

@@ -37,7 +37,8 @@ fn vs_uv(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) sca
 @fragment
 fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
     let base = base_color(in.scalar);
-    return compose(base, shade(base.rgb, dpdx(in.wp), dpdy(in.wp)), 0.0);
+    let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, depth_fraction(in.wp));
+    return compose_lines(base, shade(base.rgb, dpdx(in.wp), dpdy(in.wp)), 0.0, extra);
 }
 
 @fragment
@@ -49,7 +50,8 @@ fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
     let a = depth_fraction(in.wp);
     let cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
     let base = base_color(in.scalar);
-    return compose(base, shade(base.rgb, dpx, dpy), cov);
+    let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, a);
+    return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
 @vertex
@@ -69,7 +71,8 @@ fn fs_tex3(in: Tex3Out) -> @location(0) vec4<f32> {
     let c1 = coverage(in.s.y, grad_len(dsx.y, dsy.y), a);
     let c2 = coverage(in.s.z, grad_len(dsx.z, dsy.z), a);
     let base = base_color(in.scalar);
-    return compose(base, shade(base.rgb, dpx, dpy), union2(union2(c0, c1), c2));
+    let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, a);
+    return compose_lines(base, shade(base.rgb, dpx, dpy), union2(union2(c0, c1), c2), extra);
 }
 
 // Vertex pulling for texgs: positions (xyz packed), scalars, the index buffer, and per
