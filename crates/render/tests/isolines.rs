@@ -1,0 +1,442 @@
+//! Measured image tests of isolines (Celes & Abraham 2011 section 6): on a plane
+//! carrying f = x² + y² (steep) and f = 0.001 (x² + y²) (nearly flat), the drawn
+//! isolines are measured across, all around each circle, against the analytic contour
+//! (see support/mod.rs for the measuring convention: black surface, white lines, the
+//! red channel is coverage).
+
+mod support;
+
+use strata_grid::SurfaceMesh;
+use strata_render::glam::{Vec2, Vec3};
+use strata_render::{
+    Camera, Coverage, IsolineOptions, Isolines, RangeAdjust, Renderer, Style, View, WireMode,
+};
+use support::{Frame, Projector, Summary, measuring_style, renderer};
+
+/// Image size; the plane [-1, 1]² fills it head-on, so the screen is an exact
+/// similarity of the plane and a contour circle is a circle on screen.
+const SIZE: u32 = 512;
+const SIGMA: f32 = 2.0;
+/// How far a scan reaches either side of the contour, pixels.
+const REACH: f32 = 0.5 * SIGMA + 3.0;
+
+/// The plane [-1, 1]² in `n` x `n` cells carrying `scale (x² + y²)`.
+fn paraboloid(n: usize, scale: f32) -> SurfaceMesh {
+    let h = 2.0 / n as f32;
+    let mut mesh =
+        SurfaceMesh::structured(n, n, |i, j| [i as f32 * h - 1.0, j as f32 * h - 1.0, 0.0]);
+    mesh.scalars = mesh
+        .positions
+        .iter()
+        .map(|p| scale * (p[0] * p[0] + p[1] * p[1]))
+        .collect();
+    mesh
+}
+
+/// Head-on view of the plane, filling the image.
+fn head_on() -> View {
+    let fov: f32 = 35.0;
+    let distance = 1.0 / (0.5 * fov.to_radians()).tan();
+    let mut camera = Camera::look_at(Vec3::new(0.0, 0.0, distance), Vec3::ZERO, Vec3::Y);
+    camera.fov_y_deg = fov;
+    View {
+        camera,
+        width: SIZE,
+        height: SIZE,
+        bounds: (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)),
+    }
+}
+
+fn style(isolines: Isolines, coverage: Coverage) -> Style {
+    Style {
+        isolines: Some(Isolines {
+            color: [1.0, 1.0, 1.0, 1.0],
+            major_every: 0,
+            ..isolines
+        }),
+        ..measuring_style(SIGMA, coverage)
+    }
+}
+
+/// One measurement across a contour circle.
+#[derive(Clone, Copy, Debug)]
+struct Scan {
+    /// Signed distance of the measured centre from the analytic contour, pixels.
+    offset: f32,
+    /// Full width at half coverage, perpendicular to the contour, pixels.
+    width: f32,
+    peak: f32,
+}
+
+/// Measures the circle of radius `r_px` about `centre` (pixels) at `count` angles: along
+/// the pixel row (or column, where the circle runs closer to horizontal) through each
+/// point, the two half-coverage crossings, interpolated between pixel centres, give
+/// the width (times the normal's component along the scan) and the centre. Scans that
+/// would come near the radii in `others` are skipped; each scan reaches `reach` px
+/// either side of the contour.
+fn measure_circle(
+    frame: &Frame,
+    centre: Vec2,
+    r_px: f32,
+    count: usize,
+    others: &[f32],
+    reach: f32,
+) -> Vec<Scan> {
+    let mut scans = Vec::new();
+    for a in 0..count {
+        let theta = (a as f32 + 0.5) / count as f32 * std::f32::consts::TAU;
+        let n = Vec2::new(theta.cos(), theta.sin());
+        let rows = n.x.abs() >= n.y.abs();
+        let p = centre + n * r_px;
+        // The scan line through p and where the analytic circle crosses it.
+        let (fixed, along_c, across_c) = if rows {
+            (p.y.floor() + 0.5, centre.x, centre.y)
+        } else {
+            (p.x.floor() + 0.5, centre.y, centre.x)
+        };
+        let q = fixed - across_c;
+        if q.abs() >= r_px {
+            continue;
+        }
+        let half_chord = (r_px * r_px - q * q).sqrt();
+        let sign = if rows { n.x.signum() } else { n.y.signum() };
+        let cross = along_c + sign * half_chord;
+        // The normal at the crossing, and the stretch of the scan across the line.
+        let normal = if rows {
+            Vec2::new(cross - centre.x, fixed - centre.y)
+        } else {
+            Vec2::new(fixed - centre.x, cross - centre.y)
+        }
+        .normalize();
+        let stretch = if rows { normal.x.abs() } else { normal.y.abs() };
+        let reach_px = reach / stretch;
+        if others
+            .iter()
+            .any(|&o| (o - r_px).abs() < reach + 0.5 * SIGMA + 1.5)
+        {
+            continue;
+        }
+        let first = (cross - reach_px - 0.5).floor() as i64;
+        let last = (cross + reach_px - 0.5).ceil() as i64;
+        let mut pos = Vec::new();
+        let mut cov = Vec::new();
+        let mut on_surface = true;
+        for k in first..=last {
+            let (x, y) = if rows {
+                (k, fixed.floor() as i64)
+            } else {
+                (fixed.floor() as i64, k)
+            };
+            match frame.at(x, y) {
+                Some((c, true)) => {
+                    pos.push(k as f32 + 0.5);
+                    cov.push(c);
+                }
+                _ => on_surface = false,
+            }
+        }
+        if !on_surface {
+            continue;
+        }
+        let (peak_i, peak) = cov
+            .iter()
+            .copied()
+            .enumerate()
+            .fold((0, f32::MIN), |m, (i, c)| if c > m.1 { (i, c) } else { m });
+        let half = 0.5 - 1.5 / 255.0;
+        let crossing = |range: &mut dyn Iterator<Item = usize>| -> Option<f32> {
+            let mut prev = peak_i;
+            for i in range {
+                if cov[i] < half {
+                    let t = (cov[prev] - half) / (cov[prev] - cov[i]);
+                    return Some(pos[prev] + t * (pos[i] - pos[prev]));
+                }
+                prev = i;
+            }
+            None
+        };
+        let (width, offset) = match (
+            crossing(&mut (0..peak_i).rev()),
+            crossing(&mut (peak_i + 1..cov.len())),
+        ) {
+            (Some(lo), Some(hi)) if peak >= half => (
+                (hi - lo) * stretch,
+                (0.5 * (lo + hi) - cross) * stretch * sign,
+            ),
+            // A gap (or a line wider than the scan): width 0, offset NaN, which every
+            // check rejects.
+            _ => (0.0, f32::NAN),
+        };
+        scans.push(Scan {
+            offset,
+            width,
+            peak,
+        });
+    }
+    scans
+}
+
+/// Screen centre and pixels per world unit of the head-on view.
+fn screen_frame(view: &View) -> (Vec2, f32) {
+    let proj = Projector::new(view);
+    let c = proj.to_px(Vec3::ZERO);
+    let scale = (proj.to_px(Vec3::X) - c).length();
+    let check = (proj.to_px(Vec3::Y) - c).length();
+    assert!(
+        (scale - check).abs() < 1e-3 * scale,
+        "the view is not a similarity"
+    );
+    (c, scale)
+}
+
+struct Measured {
+    offsets: Summary,
+    abs_offsets: Summary,
+    widths: Summary,
+    peaks: Summary,
+}
+
+impl Measured {
+    fn of(scans: &[Scan]) -> Self {
+        Measured {
+            offsets: Summary::of(scans.iter().map(|s| s.offset)),
+            abs_offsets: Summary::of(scans.iter().map(|s| s.offset.abs())),
+            widths: Summary::of(scans.iter().map(|s| s.width)),
+            peaks: Summary::of(scans.iter().map(|s| s.peak)),
+        }
+    }
+}
+
+/// Draws `mesh` with the isoline technique and `adjust`, and measures the contour
+/// circles of the given radii (plane units).
+fn draw_and_measure(
+    r: &mut Renderer,
+    mesh: &SurfaceMesh,
+    isolines: Isolines,
+    circles: &[f32],
+    adjust: RangeAdjust,
+    coverage: Coverage,
+    reach: f32,
+) -> Vec<Scan> {
+    let view = head_on();
+    let drawable = r
+        .prepare_isolines(
+            mesh,
+            None,
+            IsolineOptions {
+                adjust,
+                wire: false,
+            },
+        )
+        .expect("prepare isolines");
+    let image = r
+        .render(&[drawable.as_ref()], &view, &style(isolines, coverage))
+        .expect("render");
+    let frame = Frame::new(&image);
+    let (centre, px) = screen_frame(&view);
+    let radii: Vec<f32> = circles.iter().map(|c| c * px).collect();
+    let mut scans = Vec::new();
+    for (i, &rad) in radii.iter().enumerate() {
+        let others: Vec<f32> = radii
+            .iter()
+            .enumerate()
+            .filter(|(j, _)| *j != i)
+            .map(|(_, &o)| o)
+            .collect();
+        scans.extend(measure_circle(&frame, centre, rad, 720, &others, reach));
+    }
+    scans
+}
+
+fn report(label: &str, r: &Renderer, scans: &[Scan]) -> Measured {
+    let m = Measured::of(scans);
+    eprintln!(
+        "{} {label}: offset {} |offset| {} width {} peak {}",
+        support::backend(r),
+        m.offsets,
+        m.abs_offsets,
+        m.widths,
+        m.peaks
+    );
+    m
+}
+
+/// Lines through `values` only: the spacing is larger than the field's range.
+fn single(value: f32, spacing: f32) -> Isolines {
+    Isolines {
+        offset: value,
+        ..Isolines::new(spacing)
+    }
+}
+
+fn assert_on_contour_and_sigma_wide(label: &str, m: &Measured) {
+    assert!(m.widths.n >= 200, "{label}: only {} scans", m.widths.n);
+    assert!(
+        m.abs_offsets.max < 1.0,
+        "{label}: a centre {} px from the contour",
+        m.abs_offsets.max
+    );
+    assert!(
+        m.widths.min >= SIGMA - 0.5 && m.widths.max <= SIGMA + 0.5,
+        "{label}: widths {} outside sigma {SIGMA} +- 0.5",
+        m.widths
+    );
+    // No gap anywhere along the lines, across triangle edges included: every scan
+    // (one every 0.2 to 0.6 px of arc) finds the line, nearly opaque (a 2 px line
+    // fully covers some pixel when axis-aligned, 88 % of one at 45 degrees).
+    assert!(m.peaks.min > 0.8, "{label}: a gap, peaks {}", m.peaks);
+}
+
+#[test]
+fn steep_field_isolines_lie_on_their_contours_sigma_wide() {
+    let mut r = renderer();
+    let mesh = paraboloid(32, 1.0);
+    // Circles r² = 0.1, 0.2, ... 0.8: 13 to 15 px apart at 256 px per unit.
+    let values: Vec<f32> = (1..=8).map(|k| 0.1 * k as f32).collect();
+    let iso = Isolines::new(0.1);
+    for coverage in [Coverage::Texture, Coverage::Analytic] {
+        for adjust in [RangeAdjust::Off, RangeAdjust::On] {
+            let circles: Vec<f32> = values.iter().map(|v| v.sqrt()).collect();
+            let scans = draw_and_measure(&mut r, &mesh, iso, &circles, adjust, coverage, REACH);
+            let label = format!("steep {coverage:?} adjust {adjust:?}");
+            let m = report(&label, &r, &scans);
+            assert_on_contour_and_sigma_wide(&label, &m);
+        }
+    }
+    // Every fragment path of the texture family draws the same isolines from its
+    // interpolated scalar (their wire made invisible, so only isolines are measured).
+    let view = head_on();
+    let (centre, px) = screen_frame(&view);
+    let radii: Vec<f32> = values.iter().map(|v| v.sqrt() * px).collect();
+    for mode in [
+        WireMode::None,
+        WireMode::Global,
+        WireMode::Tex,
+        WireMode::TexGs,
+    ] {
+        let drawable = r.prepare(&mesh, mode).expect("prepare");
+        let image = r
+            .render(
+                &[drawable.as_ref()],
+                &view,
+                &Style {
+                    wire_color: [1.0, 1.0, 1.0, 0.0],
+                    ..style(iso, Coverage::Texture)
+                },
+            )
+            .expect("render");
+        let frame = Frame::new(&image);
+        let scans: Vec<Scan> = radii
+            .iter()
+            .flat_map(|&rad| {
+                let others: Vec<f32> = radii.iter().copied().filter(|&o| o != rad).collect();
+                measure_circle(&frame, centre, rad, 720, &others, REACH)
+            })
+            .collect();
+        let label = format!("steep fragment path of {}", mode.name());
+        let m = report(&label, &r, &scans);
+        assert_on_contour_and_sigma_wide(&label, &m);
+    }
+}
+
+#[test]
+fn nearly_flat_field_keeps_sigma_with_the_adjust() {
+    let mut r = renderer();
+    // f = 0.001 r²: at r = 0.5 the isoline coordinate changes by 8e-5 units per
+    // pixel, 3x less than one texel of the 4096-texel texture per pixel.
+    let scale = 0.001;
+    let mesh = paraboloid(32, scale);
+    let value = scale * 0.25;
+    let iso = single(value, 0.1);
+    let mut widths = Vec::new();
+    for adjust in [RangeAdjust::Off, RangeAdjust::On, RangeAdjust::Paper2010] {
+        // Without the adjust the line is wide: scan far enough to find its edges.
+        let reach = if adjust == RangeAdjust::Off {
+            24.0
+        } else {
+            REACH
+        };
+        let scans = draw_and_measure(&mut r, &mesh, iso, &[0.5], adjust, Coverage::Texture, reach);
+        let label = format!("flat Texture adjust {adjust:?}");
+        let m = report(&label, &r, &scans);
+        widths.push(m.widths.mean);
+        // The papers' own factor is reported, not required: it leaves the triangles
+        // beside the line unadjusted, so the line's anti-aliased edge is magnified
+        // there wherever it reaches over a triangle edge.
+        if adjust == RangeAdjust::On {
+            assert_on_contour_and_sigma_wide(&label, &m);
+        }
+    }
+    // Analytic coverage has no texture to magnify: sigma wide without the adjust.
+    let scans = draw_and_measure(
+        &mut r,
+        &mesh,
+        iso,
+        &[0.5],
+        RangeAdjust::Off,
+        Coverage::Analytic,
+        REACH,
+    );
+    let m = report("flat Analytic adjust Off", &r, &scans);
+    assert_on_contour_and_sigma_wide("flat analytic, no adjust", &m);
+    eprintln!(
+        "{}: mean width without / with the adjust: {:.3} / {:.3} px",
+        support::backend(&r),
+        widths[0],
+        widths[1]
+    );
+    // The problem the adjust solves: without it the texture is magnified and the
+    // line is far wider than sigma.
+    assert!(
+        widths[0] > 2.0 * SIGMA,
+        "without the adjust the flat-field line is only {} px wide",
+        widths[0]
+    );
+}
+
+#[test]
+fn the_2010_pivot_keeps_isolines_at_their_value_and_the_2011_pivot_moves_them() {
+    let mut r = renderer();
+    let scale = 0.001;
+    let mesh = paraboloid(32, scale);
+    let value = scale * 0.25;
+    let iso = single(value, 0.1);
+    let mut off_contour = Vec::new();
+    for adjust in [RangeAdjust::Paper2010, RangeAdjust::Paper2011] {
+        let scans = draw_and_measure(
+            &mut r,
+            &mesh,
+            iso,
+            &[0.5],
+            adjust,
+            Coverage::Analytic,
+            REACH,
+        );
+        let m = report(&format!("flat Analytic {adjust:?}"), &r, &scans);
+        // Scans whose line is more than 1 px from the contour, or missing.
+        let off = scans
+            .iter()
+            .filter(|s| !(s.offset.abs() <= 1.0 && s.width > 0.0))
+            .count();
+        eprintln!(
+            "{} {adjust:?}: {off} of {} scans off the contour",
+            support::backend(&r),
+            scans.len()
+        );
+        assert!(scans.len() >= 200, "{adjust:?}: only {} scans", scans.len());
+        off_contour.push((off, scans.len(), m));
+    }
+    // fM: every scan on the contour.
+    assert_eq!(
+        off_contour[0].0, 0,
+        "2010 (fM): {:?}",
+        off_contour[0].2.offsets
+    );
+    // fm: the line is drawn where u = fm + range, towards each triangle's lowest
+    // corner, a different distance in each triangle: most of it is off the contour.
+    let (off, n, _) = &off_contour[1];
+    assert!(
+        *off * 2 > *n,
+        "2011 (fm): only {off} of {n} scans off the contour; the pivot should move the line"
+    );
+}
