@@ -23,6 +23,9 @@ enum Command {
     Synth(cli::synth::SynthArgs),
     /// Render layers shaded by a property with the cell wireframe to a PNG.
     Render(Box<cli::render::RenderArgs>),
+    /// Triangulate scattered picks (or generated ones) into a terrain and render it
+    /// with map grid lines to a PNG.
+    Terrain(Box<cli::terrain::TerrainArgs>),
     /// Benchmarks (on demand; print a table, or JSON with --json).
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -49,6 +52,13 @@ enum BenchCommand {
         #[arg(long)]
         quick: bool,
     },
+    /// Isoline quality against an analytic reference (16x16 supersampled) and frame
+    /// times: texture isolines (adjust on/off) beside marching triangles + lines.
+    Isolines {
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -57,7 +67,9 @@ fn main() -> ExitCode {
         Command::Info(args) => cli::info::run(&args),
         Command::Synth(args) => cli::synth::run(&args),
         Command::Render(args) => cli::render::run(&args),
+        Command::Terrain(args) => cli::terrain::run(&args),
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
+        Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
         Command::Bench(BenchCommand::Wire { json, quick }) => bench_wire(json, quick),
     };
     match result {
@@ -88,6 +100,16 @@ fn bench_wire(json: bool, quick: bool) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         wire::print_table(&report);
+    }
+    Ok(())
+}
+
+fn bench_isolines(json: bool) -> anyhow::Result<()> {
+    let report = strata::bench::isolines::run()?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        strata::bench::isolines::print_table(&report);
     }
     Ok(())
 }

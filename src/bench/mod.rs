@@ -2,5 +2,6 @@
 //! with `--json`), run on demand and never as pass/fail timing in CI.
 
 pub mod io;
+pub mod isolines;
 pub mod meshes;
 pub mod wire;

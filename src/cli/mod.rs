@@ -3,3 +3,4 @@
 pub mod info;
 pub mod render;
 pub mod synth;
+pub mod terrain;

@@ -8,7 +8,8 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 use strata::render::glam::Vec3;
 use strata::render::{
-    Attenuation, Camera, Colormap, Coverage, Renderer, Style, View, WireMode, parse_color,
+    Attenuation, Camera, Colormap, Coverage, GridLines, IsolineOptions, Isolines, RangeAdjust,
+    Renderer, Style, View, WireMode, parse_color,
 };
 use strata::scene::{SceneOptions, build};
 
@@ -81,6 +82,86 @@ pub struct RenderArgs {
     /// Output PNG.
     #[arg(short, long, default_value = "strata.png")]
     output: PathBuf,
+    /// Isolines of a property: PROPERTY[:SPACING[:MAJOR_EVERY]] (spacing: about ten
+    /// lines over the range when omitted; every fifth line major by default). Drawn
+    /// with the global wireframe or none.
+    #[arg(long, value_parser = parse_iso)]
+    iso: Option<(String, Option<f32>, u32)>,
+    /// Range adjust of the isolines: on, off, or the papers' formulas paper2010 and
+    /// paper2011 (the latter moves lines: kept to show it).
+    #[arg(long, default_value = "on", value_parser = parse_adjust)]
+    iso_adjust: RangeAdjust,
+    /// Map grid lines: SPACING[,X0[,Y0]] in map units, through map (X0, Y0).
+    #[arg(long, value_parser = parse_grid_lines)]
+    grid_lines: Option<(f64, f64, f64)>,
+}
+
+fn parse_iso(s: &str) -> Result<(String, Option<f32>, u32), String> {
+    let mut parts = s.split(':');
+    let name = parts
+        .next()
+        .filter(|n| !n.is_empty())
+        .ok_or_else(|| format!("expected PROPERTY[:SPACING[:MAJOR_EVERY]], got {s:?}"))?;
+    let spacing = parts
+        .next()
+        .map(|v| {
+            v.trim()
+                .parse::<f32>()
+                .ok()
+                .filter(|x| *x > 0.0 && x.is_finite())
+                .ok_or_else(|| format!("{v:?} is not a positive spacing"))
+        })
+        .transpose()?;
+    let major = parts
+        .next()
+        .map(|v| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}")))
+        .transpose()?
+        .unwrap_or(5);
+    if parts.next().is_some() {
+        return Err(format!(
+            "expected PROPERTY[:SPACING[:MAJOR_EVERY]], got {s:?}"
+        ));
+    }
+    Ok((name.to_string(), spacing, major))
+}
+
+fn parse_adjust(s: &str) -> Result<RangeAdjust, String> {
+    RangeAdjust::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = RangeAdjust::ALL.iter().map(|(n, _)| *n).collect();
+        format!("unknown range adjust {s:?}; one of {}", names.join(", "))
+    })
+}
+
+/// SPACING[,X0[,Y0]]: Y0 defaults to X0, both to 0.
+pub(crate) fn parse_grid_lines(s: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}")))
+        .collect::<Result<_, _>>()?;
+    let (spacing, x0, y0) = match v.as_slice() {
+        [d] => (*d, 0.0, 0.0),
+        [d, x] => (*d, *x, *x),
+        [d, x, y] => (*d, *x, *y),
+        _ => return Err(format!("expected SPACING[,X0[,Y0]], got {s:?}")),
+    };
+    if !(spacing > 0.0 && spacing.is_finite() && x0.is_finite() && y0.is_finite()) {
+        return Err(format!(
+            "grid lines {s:?}: spacing must be positive, origin finite"
+        ));
+    }
+    Ok((spacing, x0, y0))
+}
+
+/// A round spacing (1, 2 or 5 times a power of ten) giving about `lines` lines over
+/// `range`.
+fn nice_spacing(range: f32, lines: f32) -> f32 {
+    let raw = (range / lines).max(f32::MIN_POSITIVE);
+    let step = 10f32.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * step)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * step)
 }
 
 fn parse_wire(s: &str) -> Result<WireMode, String> {
@@ -110,7 +191,7 @@ fn parse_layers(s: &str) -> Result<(usize, usize), String> {
     Ok((a, b))
 }
 
-fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
+pub(crate) fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
     let v: Vec<f32> = s
         .split(',')
         .map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}")))
@@ -122,7 +203,7 @@ fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
     }
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("expected WxH, got {s:?}"))?;
@@ -162,12 +243,40 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         flat_cells: !args.smooth,
     };
     let (mesh, range) = build(&grid, &options)?;
+    // Isolines need the property interpolated between nodes, whatever colours the
+    // cells: one value per triangle corner of `mesh`.
+    let iso = match &args.iso {
+        Some((name, spacing, major)) => {
+            let (field, iso_range) = isoline_field(&grid, &options, &mesh, name)?;
+            let spacing = spacing.unwrap_or_else(|| nice_spacing(iso_range.1 - iso_range.0, 10.0));
+            Some((field, spacing, *major))
+        }
+        None => None,
+    };
     let loaded = start.elapsed();
 
     let mut renderer = Renderer::headless()?;
-    let drawable = renderer
-        .prepare(&mesh, args.wire)
-        .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?;
+    let drawable = match &iso {
+        Some((field, ..)) => {
+            if !matches!(args.wire, WireMode::Global | WireMode::None) {
+                bail!(
+                    "--iso draws with --wire global or none, not {}",
+                    args.wire.name()
+                );
+            }
+            renderer.prepare_isolines(
+                &mesh,
+                Some(field),
+                IsolineOptions {
+                    adjust: args.iso_adjust,
+                    wire: args.wire == WireMode::Global,
+                },
+            )?
+        }
+        None => renderer
+            .prepare(&mesh, args.wire)
+            .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?,
+    };
     let (lo, hi) = mesh.bounds().ok_or_else(|| anyhow!("empty scene"))?;
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let (az, el, dist) = args.view;
@@ -206,6 +315,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         } else {
             [1.0; 4]
         },
+        isolines: iso.as_ref().map(|(_, spacing, major)| Isolines {
+            major_every: *major,
+            ..Isolines::new(*spacing)
+        }),
+        grid_lines: args.grid_lines.map(|(spacing, x0, y0)| GridLines {
+            origin: [x0, y0],
+            ..GridLines::new(spacing, [mesh.origin[0], mesh.origin[1]])
+        }),
         ..Style::default()
     };
     let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
@@ -224,4 +341,48 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         renderer.gpu.describe()
     );
     Ok(())
+}
+
+/// The isoline field of property `name` per triangle corner of `mesh` (built with
+/// `options`), from the same surfaces with the property averaged onto nodes, and the
+/// range of its defined values. Cell-painted meshes list their triangles face by
+/// face (`SurfaceMesh::with_cell_values`), smooth ones in extraction order.
+fn isoline_field(
+    grid: &strata::grid::CornerPointGrid,
+    options: &SceneOptions,
+    mesh: &strata::grid::SurfaceMesh,
+    name: &str,
+) -> Result<(Vec<f32>, (f32, f32))> {
+    if grid.property(name).is_none() {
+        bail!("--iso: the model has no property {name}");
+    }
+    let smooth_options = SceneOptions {
+        property: Some(name.to_string()),
+        flat_cells: false,
+        ..options.clone()
+    };
+    let (smooth, range) = build(grid, &smooth_options)?;
+    let range = range.ok_or_else(|| anyhow!("--iso: {name} has no defined value here"))?;
+    let corners = |t: u32| smooth.triangles[t as usize].map(|v| smooth.scalars[v as usize]);
+    let cell_painted = options.flat_cells && options.property.is_some();
+    let field: Vec<f32> = if cell_painted {
+        smooth
+            .cell_faces
+            .iter()
+            .flat_map(|f| f.triangles)
+            .flat_map(corners)
+            .collect()
+    } else {
+        (0..smooth.triangle_count() as u32)
+            .flat_map(corners)
+            .collect()
+    };
+    if field.len() != 3 * mesh.triangle_count() {
+        bail!(
+            "--iso: {} isoline values for {} triangles",
+            field.len(),
+            mesh.triangle_count()
+        );
+    }
+    Ok((field, range))
 }
