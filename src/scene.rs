@@ -59,10 +59,13 @@ pub fn build(
     }
     let range = property.and_then(|name| {
         let values = grid.property(name)?;
+        // Over the active cells only: inactive ones often hold zeros.
         let (lo, hi) = values
             .slice(s![layers.clone(), .., ..])
             .iter()
-            .filter(|v| v.is_finite())
+            .zip(grid.actnum.slice(s![layers.clone(), .., ..]).iter())
+            .filter(|&(v, &active)| active && v.is_finite())
+            .map(|(v, _)| v)
             .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
                 (lo.min(*v), hi.max(*v))
             });

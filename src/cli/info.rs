@@ -18,6 +18,9 @@ pub struct InfoArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
+    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
+    #[arg(long = "props", value_name = "FILE")]
+    props: Vec<PathBuf>,
 }
 
 fn parse_cell(s: &str) -> Result<[usize; 3], String> {
@@ -72,8 +75,7 @@ struct CellInfo {
 const CORNER_ORDER: &str = "Eclipse order: top face (I,J) (I+1,J) (I,J+1) (I+1,J+1), then the bottom face in the same order";
 
 pub fn run(args: &InfoArgs) -> Result<()> {
-    let path = args.model.clone().unwrap_or_else(crate::sample_model);
-    let grid = strata::grid::open(&path)?;
+    let (path, grid) = super::open_model(args.model.as_deref(), &args.props)?;
     let file = path.display().to_string();
     match args.cell {
         Some(cell) => cell_info(&grid, file, cell, args.json),

@@ -52,6 +52,37 @@ pub fn parse_bytes(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<C
     deck::parse(path, bytes, options)
 }
 
+/// Adds the per-cell arrays of the property deck `path` (PORO, PERMX, ...; no grid
+/// keywords needed) to `grid`, as for an EGRID whose properties come in a separate
+/// GRDECL file. ACTNUM in such a deck is refused: it would change which cells exist.
+/// Returns the names added.
+pub fn read_properties(grid: &mut CornerPointGrid, path: &Path) -> Result<Vec<String>> {
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    // SAFETY: as in `read`.
+    let map = unsafe { Mmap::map(&file) }.map_err(|e| Error::io(path, e))?;
+    let dims = grid.dims();
+    let arrays = deck::parse_properties(path, &map, dims)?;
+    let mut names = Vec::new();
+    for (name, values) in arrays {
+        if name == "ACTNUM" {
+            return Err(Error::model(
+                path,
+                "ACTNUM",
+                "a property deck may not redefine ACTNUM",
+            ));
+        }
+        let array = ndarray::Array3::from_shape_vec((dims.nz, dims.ny, dims.nx), values)
+            .map_err(|e| Error::model(path, &name, e.to_string()))?;
+        grid.set_property(&name, array)
+            .map_err(|e| Error::model(path, &name, e.to_string()))?;
+        names.push(name);
+    }
+    if names.is_empty() {
+        return Err(Error::model(path, "", "no per-cell property in the deck"));
+    }
+    Ok(names)
+}
+
 /// Writes a grid as a GRDECL deck: MAPUNITS and MAPAXES when the grid has map axes,
 /// GRIDUNIT, SPECGRID, COORD, ZCORN, ACTNUM and every property.
 pub fn write(grid: &CornerPointGrid, path: &Path) -> Result<()> {

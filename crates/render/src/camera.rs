@@ -56,12 +56,40 @@ impl Camera {
         max: Vec3,
         z_scale: f32,
         aspect: f32,
+        view: (f32, f32),
+        distance_factor: f32,
+    ) -> Self {
+        let corners = (0..8).map(|k| {
+            Vec3::new(
+                if k & 1 == 0 { min.x } else { max.x },
+                if k & 2 == 0 { min.y } else { max.y },
+                if k & 4 == 0 { min.z } else { max.z },
+            )
+        });
+        Self::fit_points(corners, z_scale, aspect, view, distance_factor)
+    }
+
+    /// Like [`Camera::fit`], but frames the given points (e.g. a mesh's vertices)
+    /// rather than their bounding box, which is much tighter for rotated grids.
+    pub fn fit_points(
+        points: impl IntoIterator<Item = Vec3> + Clone,
+        z_scale: f32,
+        aspect: f32,
         (azimuth_deg, elevation_deg): (f32, f32),
         distance_factor: f32,
     ) -> Self {
         let scale = Vec3::new(1.0, 1.0, z_scale);
-        let (lo, hi) = (min * scale, max * scale);
-        let centre = 0.5 * (lo + hi);
+        let (lo, hi) = points
+            .clone()
+            .into_iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(p * scale), hi.max(p * scale))
+            });
+        let centre = if lo.cmple(hi).all() {
+            0.5 * (lo + hi)
+        } else {
+            Vec3::ZERO
+        };
         let mut c = Camera::orbit(centre, azimuth_deg, elevation_deg, 1.0);
         c.z_scale = z_scale;
         let forward = (c.target - c.eye).normalize();
@@ -71,13 +99,10 @@ impl Camera {
         let tan_x = tan_y * aspect.max(1e-3);
         // A corner at offset p from the centre is inside the frustum from distance d
         // along -forward when |p.right| <= tan_x (d + p.forward), likewise for up.
-        let distance = (0..8)
-            .map(|k| {
-                let p = Vec3::new(
-                    if k & 1 == 0 { lo.x } else { hi.x },
-                    if k & 2 == 0 { lo.y } else { hi.y },
-                    if k & 4 == 0 { lo.z } else { hi.z },
-                ) - centre;
+        let distance = points
+            .into_iter()
+            .map(|p| {
+                let p = p * scale - centre;
                 let depth = p.dot(forward);
                 (p.dot(right).abs() / tan_x - depth).max(p.dot(up).abs() / tan_y - depth)
             })

@@ -160,30 +160,49 @@ pub(super) struct Deck<'o> {
 
 /// Reads the deck `bytes`, which is the file `path`.
 pub(super) fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<CornerPointGrid> {
-    let root_dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let mut deck = Deck {
-        options,
-        root: path.to_path_buf(),
-        root_dir,
-        open: vec![identity(path)],
-        bytes_seen: bytes.len(),
-        spent: 0,
-        section: Section::Top,
-        ended: false,
-        cells: None,
-        region: None,
-        vectors: BTreeMap::new(),
-        coord: None,
-        zcorn: None,
-        mapaxes: None,
-        units: None,
-        warnings: Vec::new(),
-    };
+    let mut deck = Deck::new(path, bytes, options, None);
     deck.run(path, bytes)?;
     deck.finish()
+}
+
+/// Reads the per-cell arrays of a property deck (no grid keywords needed) for a grid
+/// of `dims`, e.g. the PORO file that goes with an EGRID.
+pub(super) fn parse_properties(
+    path: &Path,
+    bytes: &[u8],
+    dims: Dims,
+) -> Result<BTreeMap<String, Vec<f32>>> {
+    let options = ReadOptions::default();
+    let mut deck = Deck::new(path, bytes, &options, Some(Cells::new(dims)));
+    deck.run(path, bytes)?;
+    Ok(deck.cells.map(|c| c.arrays).unwrap_or_default())
+}
+
+impl<'o> Deck<'o> {
+    fn new(path: &Path, bytes: &[u8], options: &'o ReadOptions, cells: Option<Cells>) -> Self {
+        let root_dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        Deck {
+            options,
+            root: path.to_path_buf(),
+            root_dir,
+            open: vec![identity(path)],
+            bytes_seen: bytes.len(),
+            spent: 0,
+            section: Section::Top,
+            ended: false,
+            cells,
+            region: None,
+            vectors: BTreeMap::new(),
+            coord: None,
+            zcorn: None,
+            mapaxes: None,
+            units: None,
+            warnings: Vec::new(),
+        }
+    }
 }
 
 /// A file's identity for cycle detection: its canonical path when it exists.
