@@ -30,6 +30,9 @@ enum CoverageArg {
 pub struct RenderArgs {
     /// Model file (.grdecl, .DATA, .EGRID); the sample in data/ when omitted.
     model: Option<PathBuf>,
+    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
+    #[arg(long = "props", value_name = "FILE")]
+    props: Vec<PathBuf>,
     /// One layer, 1-based.
     #[arg(long, conflicts_with = "layers")]
     layer: Option<usize>,
@@ -218,9 +221,8 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
-    let path = args.model.clone().unwrap_or_else(crate::sample_model);
     let start = Instant::now();
-    let grid = strata::grid::open(&path)?;
+    let (_, grid) = super::open_model(args.model.as_deref(), &args.props)?;
     let nz = grid.dims().nz;
     let layers = match (args.layer, args.layers) {
         (Some(k), _) if (1..=nz).contains(&k) => Some(k - 1..k),
@@ -281,9 +283,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let (az, el, dist) = args.view;
     let view = View {
-        camera: Camera::fit(
-            bounds.0,
-            bounds.1,
+        camera: Camera::fit_points(
+            mesh.positions.iter().map(|&p| Vec3::from(p)),
             args.zscale,
             args.size.0 as f32 / args.size.1 as f32,
             (az, el),
