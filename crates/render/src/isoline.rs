@@ -33,6 +33,16 @@
 //! from the triangle's gradient on screen (the prepass runs every frame): just enough
 //! to stop magnification, never putting a corner more than half a period from the
 //! line, never below 1. The reasons are in `adjust_to_view` (isoline.wgsl).
+//!
+//! # Two fixes for one problem
+//!
+//! `coverage_texture` (wire/common.wgsl) already keeps the width below level 0 by
+//! rescaling the distance to the line per fragment, which is the same scale-around-
+//! the-line done per pixel with the exact gradient; the fragment paths rely on it and
+//! need no prepass. This technique samples the texture as the paper does, never finer
+//! than level 0, so that the adjust is what keeps the width: with
+//! [`RangeAdjust::Off`] the lines thicken where the field is flat (measured in
+//! tests/isolines.rs: 12.7 px instead of 2), with [`RangeAdjust::On`] they do not.
 
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
@@ -93,7 +103,8 @@ impl Isolines {
 /// The per-triangle range adjust of the isoline coordinates (see the module docs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum RangeAdjust {
-    /// Coordinates straight from the texture matrix.
+    /// Coordinates straight from the texture matrix: where the field is nearly flat
+    /// the texture is magnified and lines thicken (the paper's Fig. 14c).
     Off,
     /// strata's: the 2010 pivot, a factor from the gradient on screen.
     #[default]
