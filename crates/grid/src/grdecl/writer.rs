@@ -244,12 +244,12 @@ fn put_float(
         put_int(v.abs() as u64, out);
         return;
     }
-    for d in 1..=max_decimals.min(POW10.len() - 1) {
-        let m = (v * POW10[d]).round();
+    for (d, &scale) in POW10.iter().enumerate().take(max_decimals + 1).skip(1) {
+        let m = (v * scale).round();
         if m.abs() >= (1u64 << 53) as f64 {
             break;
         }
-        if reads_back(m / POW10[d]) {
+        if reads_back(m / scale) {
             put_fixed(m, d, out);
             return;
         }
