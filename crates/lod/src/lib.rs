@@ -1,1 +1,31 @@
-//! strata-lod: level of detail for strata surfaces (see DESIGN.md section 4).
+//! strata-lod: level of detail for strata surfaces (DESIGN.md section 4).
+//!
+//! * [`decimate`]: edge-collapse simplification of a [`strata_grid::SurfaceMesh`] that
+//!   keeps every vertex on the original surface with the original surface's texture
+//!   coordinates and scalar there, so the original grid wireframe (global
+//!   coordinates) is still drawn where it was on the simplified surface
+//!   (Celes & Abraham 2011, section 5, Fig. 12).
+//! * [`baseline`]: meshoptimizer's simplifiers on the same meshes, to compare with,
+//!   and its vertex-cache and vertex-fetch ordering for GPU buffers.
+//! * [`build_layer`], [`build_file`], [`LodFile`]: a quadtree of tiles per layer with
+//!   crack-free borders and per-node geometric error, saved to a file that is memory
+//!   mapped back, and the per-frame choice of nodes by projected error.
+//! * [`measure`]: how far the simplified surface draws each texture coordinate from
+//!   where the original draws it.
+
+pub mod baseline;
+mod decimate;
+mod error;
+mod file;
+mod hierarchy;
+pub mod measure;
+mod quadric;
+mod reference;
+
+pub use decimate::{Decimated, NEW, Options, decimate, decimate_on};
+pub use error::{Error, Result};
+pub use file::{
+    BuildReport, Indices, LayerRecord, LodFile, NodeRecord, Vertex, ViewPoint, build_file,
+};
+pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
+pub use reference::{NONE, Reference, SurfacePoint};

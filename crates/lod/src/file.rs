@@ -1,0 +1,592 @@
+//! The hierarchy on disk, and read back by memory mapping.
+//!
+//! Layout (little endian, every table and mesh 8-byte aligned, so that a mapped file
+//! is used in place with no parsing or copying):
+//!
+//! ```text
+//! Header        80 bytes  magic "STRATLOD", version, flags, origin, grid dims,
+//!                         tile size, counts, offsets of the two tables
+//! node data     per node: vertices (position, texture coordinates, scalar: 24 bytes
+//!               each), then indices (u16 when the node has under 65536 vertices,
+//!               else u32), padded to 8 bytes
+//! LayerRecord   16 bytes per layer surface: grid layer, face, root node, node count
+//! NodeRecord    96 bytes per node (see the struct)
+//! ```
+//!
+//! Node data is written as each layer is built, so building holds one batch of layers
+//! in memory, not the model's hierarchy; the tables go at the end and the header,
+//! which points at them, is written last.
+
+use std::fs::File;
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use bytemuck::{Pod, Zeroable};
+use memmap2::Mmap;
+use rayon::prelude::*;
+use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surface};
+
+use crate::{BuildOptions, Error, LayerTree, Result, build_layer};
+
+const MAGIC: [u8; 8] = *b"STRATLOD";
+const VERSION: u32 = 1;
+/// Header flag: vertices carry a scalar (NaN otherwise).
+const HAS_SCALARS: u32 = 1;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Header {
+    magic: [u8; 8],
+    version: u32,
+    flags: u32,
+    origin: [f64; 3],
+    dims: [u32; 2],
+    tile_cells: u32,
+    layer_count: u32,
+    node_count: u32,
+    _pad: u32,
+    layers_offset: u64,
+    nodes_offset: u64,
+}
+
+/// One layer surface of the file.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
+pub struct LayerRecord {
+    /// Grid layer (0-based).
+    pub k: u32,
+    /// 0: the layer's top faces, 1: its bottom faces.
+    pub face: u32,
+    /// Index of the root node.
+    pub root: u32,
+    /// Nodes of this layer (consecutive from the root).
+    pub node_count: u32,
+}
+
+/// One node of the file.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct NodeRecord {
+    /// Index of the layer surface in [`LodFile::layers`].
+    pub layer: u32,
+    /// 0 for leaves.
+    pub level: u32,
+    pub tile: [u32; 2],
+    /// `i0, j0, i1, j1`, ends excluded.
+    pub cells: [u32; 4],
+    /// Horizontal and vertical geometric error (display length units).
+    pub error: [f32; 2],
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+    /// Children are `first_child..first_child + child_count`.
+    pub first_child: u32,
+    pub child_count: u32,
+    pub vertex_count: u32,
+    pub index_count: u32,
+    /// Byte offset of the vertices; the indices follow them.
+    pub data_offset: u64,
+    /// 2 or 4 bytes.
+    pub index_width: u32,
+    _pad: u32,
+}
+
+/// A vertex as stored.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub texcoord: [f32; 2],
+    pub scalar: f32,
+}
+
+/// Indices of a node, in their stored width.
+#[derive(Clone, Copy, Debug)]
+pub enum Indices<'a> {
+    U16(&'a [u16]),
+    U32(&'a [u32]),
+}
+
+impl Indices<'_> {
+    pub fn len(&self) -> usize {
+        match self {
+            Indices::U16(i) => i.len(),
+            Indices::U32(i) => i.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn get(&self, k: usize) -> u32 {
+        match self {
+            Indices::U16(i) => u32::from(i[k]),
+            Indices::U32(i) => i[k],
+        }
+    }
+}
+
+/// What [`build_file`] did.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct BuildReport {
+    pub layers: usize,
+    pub nodes: usize,
+    /// Triangles of the layer surfaces.
+    pub input_triangles: usize,
+    /// Triangles stored over all levels.
+    pub stored_triangles: usize,
+    /// Highest level (the roots').
+    pub levels: u32,
+    pub bytes: u64,
+    pub seconds: f64,
+}
+
+struct Writer {
+    path: PathBuf,
+    out: BufWriter<File>,
+    pos: u64,
+    nodes: Vec<NodeRecord>,
+    layers: Vec<LayerRecord>,
+}
+
+impl Writer {
+    fn create(path: &Path) -> Result<Self> {
+        let file = File::create(path).map_err(|e| Error::io(path, e))?;
+        let mut w = Writer {
+            path: path.to_path_buf(),
+            out: BufWriter::with_capacity(1 << 20, file),
+            pos: 0,
+            nodes: Vec::new(),
+            layers: Vec::new(),
+        };
+        w.write(bytemuck::bytes_of(&Header::zeroed()))?;
+        Ok(w)
+    }
+
+    fn write(&mut self, bytes: &[u8]) -> Result<()> {
+        self.out
+            .write_all(bytes)
+            .map_err(|e| Error::io(&self.path, e))?;
+        self.pos += bytes.len() as u64;
+        Ok(())
+    }
+
+    fn pad(&mut self) -> Result<()> {
+        let n = (8 - self.pos % 8) % 8;
+        self.write(&[0u8; 8][..n as usize])
+    }
+
+    fn layer(&mut self, k: u32, face: Face, tree: &LayerTree) -> Result<()> {
+        if tree.nodes.is_empty() {
+            return Ok(());
+        }
+        let layer = self.layers.len() as u32;
+        let base = self.nodes.len() as u32;
+        self.layers.push(LayerRecord {
+            k,
+            face: match face {
+                Face::Top => 0,
+                Face::Bottom => 1,
+            },
+            root: base,
+            node_count: tree.nodes.len() as u32,
+        });
+        for node in &tree.nodes {
+            let mesh = &node.mesh;
+            let data_offset = self.pos;
+            let vertices: Vec<Vertex> = (0..mesh.vertex_count())
+                .map(|v| Vertex {
+                    position: mesh.positions[v],
+                    texcoord: mesh.texcoords[v],
+                    scalar: mesh.scalars.get(v).copied().unwrap_or(f32::NAN),
+                })
+                .collect();
+            self.write(bytemuck::cast_slice(&vertices))?;
+            let index_width = if mesh.vertex_count() <= usize::from(u16::MAX) + 1 {
+                let i: Vec<u16> = mesh.triangles.iter().flatten().map(|&v| v as u16).collect();
+                self.write(bytemuck::cast_slice(&i))?;
+                2
+            } else {
+                let i: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+                self.write(bytemuck::cast_slice(&i))?;
+                4
+            };
+            self.pad()?;
+            self.nodes.push(NodeRecord {
+                layer,
+                level: node.level,
+                tile: node.tile,
+                cells: node.cells,
+                error: node.error,
+                min: node.bounds.0,
+                max: node.bounds.1,
+                first_child: node.children.first().map_or(0, |&c| base + c),
+                child_count: node.children.len() as u32,
+                vertex_count: mesh.vertex_count() as u32,
+                index_count: 3 * mesh.triangle_count() as u32,
+                data_offset,
+                index_width,
+                _pad: 0,
+            });
+        }
+        Ok(())
+    }
+
+    fn finish(
+        mut self,
+        origin: [f64; 3],
+        dims: [u32; 2],
+        tile_cells: u32,
+        scalars: bool,
+    ) -> Result<u64> {
+        let layers_offset = self.pos;
+        let layers = std::mem::take(&mut self.layers);
+        self.write(bytemuck::cast_slice(&layers))?;
+        self.pad()?;
+        let nodes_offset = self.pos;
+        let nodes = std::mem::take(&mut self.nodes);
+        self.write(bytemuck::cast_slice(&nodes))?;
+        let header = Header {
+            magic: MAGIC,
+            version: VERSION,
+            flags: if scalars { HAS_SCALARS } else { 0 },
+            origin,
+            dims,
+            tile_cells,
+            layer_count: layers.len() as u32,
+            node_count: nodes.len() as u32,
+            _pad: 0,
+            layers_offset,
+            nodes_offset,
+        };
+        let path = self.path.clone();
+        let io = |e| Error::io(&path, e);
+        self.out.seek(SeekFrom::Start(0)).map_err(io)?;
+        self.out
+            .write_all(bytemuck::bytes_of(&header))
+            .map_err(io)?;
+        self.out.flush().map_err(io)?;
+        Ok(self.pos)
+    }
+}
+
+/// Builds the hierarchy of every layer surface of `grid` (the top faces of each layer
+/// and the bottom faces of the last, like `strata render`), with `property` as scalar,
+/// and writes it to `path`. Layers are built on all cores, in batches whose results
+/// are written in layer order, so the file does not depend on the thread count.
+pub fn build_file(
+    grid: &CornerPointGrid,
+    property: Option<&str>,
+    path: &Path,
+    options: &BuildOptions,
+) -> Result<BuildReport> {
+    let start = Instant::now();
+    let d = grid.dims();
+    let dims = [
+        u32::try_from(d.nx).map_err(|_| Error::Option(format!("nx = {} is too large", d.nx)))?,
+        u32::try_from(d.ny).map_err(|_| Error::Option(format!("ny = {} is too large", d.ny)))?,
+    ];
+    let origin = grid.display_origin();
+    let surfaces: Vec<(usize, Face)> = (0..d.nz)
+        .map(|k| (k, Face::Top))
+        .chain((d.nz > 0).then_some((d.nz - 1, Face::Bottom)))
+        .collect();
+    let bar = if options.progress {
+        let bar = indicatif::ProgressBar::new(surfaces.len() as u64);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {pos}/{len} layers, {msg} (eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let mut writer = Writer::create(path)?;
+    let mut report = BuildReport::default();
+    let batch = rayon::current_num_threads().max(1);
+    for chunk in surfaces.chunks(batch) {
+        let trees: Vec<(usize, usize, Face, LayerTree)> = chunk
+            .par_iter()
+            .map(|&(k, face)| {
+                let mesh = layer_surface(grid, k, face, property, origin)?;
+                let tree = build_layer(&mesh, dims, options)?;
+                Ok((mesh.triangle_count(), k, face, tree))
+            })
+            .collect::<Result<_>>()?;
+        for (input, k, face, tree) in trees {
+            report.input_triangles += input;
+            report.stored_triangles += tree
+                .nodes
+                .iter()
+                .map(|n| n.mesh.triangle_count())
+                .sum::<usize>();
+            report.levels = report.levels.max(tree.nodes.first().map_or(0, |n| n.level));
+            report.nodes += tree.nodes.len();
+            report.layers += usize::from(!tree.nodes.is_empty());
+            writer.layer(k as u32, face, &tree)?;
+            bar.inc(1);
+            bar.set_message(format!(
+                "{:.1} M triangles in, {:.1} M stored",
+                report.input_triangles as f64 / 1e6,
+                report.stored_triangles as f64 / 1e6
+            ));
+        }
+    }
+    report.bytes = writer.finish(origin, dims, options.tile_cells, property.is_some())?;
+    bar.finish_and_clear();
+    report.seconds = start.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// Where a frame is seen from, for choosing levels of detail.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewPoint {
+    /// Eye position in the display frame *after* vertical exaggeration (as a camera
+    /// fitted with that exaggeration has it).
+    pub eye: [f32; 3],
+    pub z_scale: f32,
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: f32,
+    /// Image height, pixels.
+    pub height_px: u32,
+}
+
+impl ViewPoint {
+    /// Pixels that a length `error` at distance `distance` covers.
+    fn pixels(&self, error: f64, distance: f64) -> f64 {
+        if distance <= 0.0 {
+            return f64::INFINITY;
+        }
+        let focal = f64::from(self.height_px)
+            / (2.0 * (f64::from(self.fov_y_deg).to_radians() / 2.0).tan());
+        error * focal / distance
+    }
+}
+
+/// A hierarchy file, memory mapped.
+pub struct LodFile {
+    path: PathBuf,
+    map: Mmap,
+    header: Header,
+}
+
+impl LodFile {
+    /// Maps `path` and checks its tables (not the node data: indices are checked when
+    /// a node's mesh is read).
+    pub fn open(path: &Path) -> Result<Self> {
+        let file = File::open(path).map_err(|e| Error::io(path, e))?;
+        // SAFETY: the map is read-only; if another process truncates the file while it
+        // is mapped, reads fault (as with any mapped file); its contents are checked
+        // before use below and when node data is read.
+        let map = unsafe { Mmap::map(&file) }.map_err(|e| Error::io(path, e))?;
+        let bad = |at: u64, message: &str| Error::Format {
+            path: path.to_path_buf(),
+            at,
+            message: message.to_string(),
+        };
+        let len = map.len() as u64;
+        let head = map
+            .get(..std::mem::size_of::<Header>())
+            .ok_or_else(|| bad(0, "shorter than the header"))?;
+        let header: Header = bytemuck::pod_read_unaligned(head);
+        if header.magic != MAGIC {
+            return Err(bad(0, "wrong magic bytes"));
+        }
+        if header.version != VERSION {
+            return Err(bad(
+                8,
+                &format!("version {} (this reader knows {VERSION})", header.version),
+            ));
+        }
+        let table_end = |offset: u64, count: u32, size: usize| {
+            offset
+                .checked_add(u64::from(count) * size as u64)
+                .filter(|&end| end <= len && offset.is_multiple_of(8))
+        };
+        if table_end(header.layers_offset, header.layer_count, 16).is_none() {
+            return Err(bad(64, "layer table outside the file"));
+        }
+        if table_end(header.nodes_offset, header.node_count, 96).is_none() {
+            return Err(bad(72, "node table outside the file"));
+        }
+        let out = LodFile {
+            path: path.to_path_buf(),
+            map,
+            header,
+        };
+        let node_count = header.node_count;
+        for (i, n) in out.nodes().iter().enumerate() {
+            let at = header.nodes_offset + 96 * i as u64;
+            let data = u64::from(n.vertex_count) * 24
+                + u64::from(n.index_count) * u64::from(n.index_width);
+            let fits = n.data_offset.is_multiple_of(8)
+                && matches!(n.index_width, 2 | 4)
+                && n.index_count.is_multiple_of(3)
+                && n.data_offset
+                    .checked_add(data)
+                    .is_some_and(|end| end <= len)
+                && n.layer < header.layer_count
+                && u64::from(n.first_child) + u64::from(n.child_count) <= u64::from(node_count)
+                && (n.child_count == 0 || n.first_child as usize > i);
+            if !fits {
+                return Err(bad(at, &format!("node {i} is inconsistent")));
+            }
+        }
+        for (l, layer) in out.layers().iter().enumerate() {
+            if u64::from(layer.root) + u64::from(layer.node_count) > u64::from(node_count) {
+                return Err(bad(
+                    header.layers_offset + 16 * l as u64,
+                    "layer root outside the nodes",
+                ));
+            }
+        }
+        Ok(out)
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Display-frame origin that positions are relative to.
+    pub fn origin(&self) -> [f64; 3] {
+        self.header.origin
+    }
+
+    /// Cells of the grid along i and j.
+    pub fn dims(&self) -> [u32; 2] {
+        self.header.dims
+    }
+
+    pub fn tile_cells(&self) -> u32 {
+        self.header.tile_cells
+    }
+
+    pub fn has_scalars(&self) -> bool {
+        self.header.flags & HAS_SCALARS != 0
+    }
+
+    pub fn layers(&self) -> &[LayerRecord] {
+        let o = self.header.layers_offset as usize;
+        bytemuck::cast_slice(&self.map[o..o + 16 * self.header.layer_count as usize])
+    }
+
+    pub fn nodes(&self) -> &[NodeRecord] {
+        let o = self.header.nodes_offset as usize;
+        bytemuck::cast_slice(&self.map[o..o + 96 * self.header.node_count as usize])
+    }
+
+    /// The stored vertices of node `i` (in place in the mapped file).
+    pub fn vertices(&self, i: usize) -> &[Vertex] {
+        let n = &self.nodes()[i];
+        let o = n.data_offset as usize;
+        bytemuck::cast_slice(&self.map[o..o + 24 * n.vertex_count as usize])
+    }
+
+    /// The stored indices of node `i` (in place in the mapped file).
+    pub fn indices(&self, i: usize) -> Indices<'_> {
+        let n = &self.nodes()[i];
+        let o = n.data_offset as usize + 24 * n.vertex_count as usize;
+        let bytes = &self.map[o..o + n.index_width as usize * n.index_count as usize];
+        if n.index_width == 2 {
+            Indices::U16(bytemuck::cast_slice(bytes))
+        } else {
+            Indices::U32(bytemuck::cast_slice(bytes))
+        }
+    }
+
+    /// Node `i` as a mesh; fails when an index is out of range.
+    pub fn mesh(&self, i: usize) -> Result<SurfaceMesh> {
+        let mut mesh = SurfaceMesh::with_origin(self.origin());
+        self.append_to(i, &mut mesh)?;
+        Ok(mesh)
+    }
+
+    fn append_to(&self, i: usize, mesh: &mut SurfaceMesh) -> Result<()> {
+        let vertices = self.vertices(i);
+        let indices = self.indices(i);
+        let base = mesh.vertex_count() as u32;
+        if let Some(k) = (0..indices.len()).find(|&k| indices.get(k) as usize >= vertices.len()) {
+            return Err(Error::Format {
+                path: self.path.clone(),
+                at: self.nodes()[i].data_offset,
+                message: format!(
+                    "node {i}: index {} of {} vertices",
+                    indices.get(k),
+                    vertices.len()
+                ),
+            });
+        }
+        let scalars = self.has_scalars();
+        if scalars && mesh.scalars.len() < mesh.positions.len() {
+            mesh.scalars.resize(mesh.positions.len(), f32::NAN);
+        }
+        for v in vertices {
+            mesh.positions.push(v.position);
+            mesh.texcoords.push(v.texcoord);
+            if scalars {
+                mesh.scalars.push(v.scalar);
+            }
+        }
+        for k in (0..indices.len()).step_by(3) {
+            mesh.triangles.push([
+                base + indices.get(k),
+                base + indices.get(k + 1),
+                base + indices.get(k + 2),
+            ]);
+        }
+        Ok(())
+    }
+
+    /// The coarsest nodes whose error, projected from `view`, is at most `max_pixels`
+    /// (leaves where nothing coarser is good enough): a cut through each layer's tree,
+    /// so every cell is drawn exactly once.
+    pub fn select(&self, view: &ViewPoint, max_pixels: f32) -> Vec<u32> {
+        let nodes = self.nodes();
+        let zs = f64::from(view.z_scale);
+        let eye = view.eye.map(f64::from);
+        let mut out = Vec::new();
+        let mut stack: Vec<u32> = self.layers().iter().map(|l| l.root).collect();
+        stack.reverse();
+        while let Some(i) = stack.pop() {
+            let n = &nodes[i as usize];
+            let error =
+                (f64::from(n.error[0]).powi(2) + (zs * f64::from(n.error[1])).powi(2)).sqrt();
+            // Distance from the eye to the node's box, in the exaggerated frame.
+            let d2: f64 = (0..3)
+                .map(|a| {
+                    let s = if a == 2 { zs } else { 1.0 };
+                    let (lo, hi) = (f64::from(n.min[a]) * s, f64::from(n.max[a]) * s);
+                    let e = eye[a];
+                    if e < lo {
+                        (lo - e).powi(2)
+                    } else if e > hi {
+                        (e - hi).powi(2)
+                    } else {
+                        0.0
+                    }
+                })
+                .sum();
+            if n.child_count == 0 || view.pixels(error, d2.sqrt()) <= f64::from(max_pixels) {
+                out.push(i);
+            } else {
+                stack.extend((n.first_child..n.first_child + n.child_count).rev());
+            }
+        }
+        out
+    }
+
+    /// The nodes `selection` in one mesh (relative to [`LodFile::origin`]).
+    pub fn selection_mesh(&self, selection: &[u32]) -> Result<SurfaceMesh> {
+        let mut mesh = SurfaceMesh::with_origin(self.origin());
+        for &i in selection {
+            if i as usize >= self.nodes().len() {
+                return Err(Error::Option(format!("no node {i}")));
+            }
+            self.append_to(i as usize, &mut mesh)?;
+        }
+        Ok(mesh)
+    }
+}

@@ -1,0 +1,466 @@
+//! Levels of detail for models too big to draw whole: a quadtree over the (i, j)
+//! cells of each layer surface.
+//!
+//! Leaves are tiles of `tile_cells` x `tile_cells` cells at full resolution. A parent
+//! merges its (up to four) children, welds them along the borders they share, and is
+//! simplified to a quarter of their triangles, with its own outer border *locked*:
+//! every node keeps the vertices of its outer border exactly as in the original
+//! surface. Two neighbouring nodes, whatever their levels, therefore meet along the
+//! same original border vertices and edges, and no crack can open between them. (The
+//! price: borders stay at full resolution, so coarse levels keep a line of small
+//! triangles along tile borders; the grid lines drawn on them do not change.)
+//!
+//! Every vertex of every level lies on the original surface with the original
+//! surface's texture coordinates there (each node is simplified on the original layer
+//! as reference surface), so any selection draws the original wireframe.
+//!
+//! Each node carries its geometric error: how far its surface is from its children's
+//! at the same texture coordinates (measured at the children's vertices), plus the
+//! children's own error, horizontal and vertical separately so that the vertical
+//! exaggeration can be applied when a view is known. Parents are never more accurate
+//! than their children, so choosing, per frame, the coarsest nodes whose projected
+//! error is under a pixel budget is a cut through each tree ([`crate::LodFile::select`]).
+
+use rayon::prelude::*;
+use strata_grid::SurfaceMesh;
+
+use crate::baseline::{optimize_order, permute_by};
+use crate::measure::{UvIndex, components};
+use crate::reference::NONE;
+use crate::{Error, Options, Reference, Result, decimate_on};
+
+/// How a hierarchy is built.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuildOptions {
+    /// Cells along each side of a leaf tile.
+    pub tile_cells: u32,
+    /// Share of its children's triangles a parent keeps (a quarter keeps nodes of
+    /// about the same size at every level).
+    pub reduction: f64,
+    /// How errors are weighed when simplifying (target and error bound are set per
+    /// node).
+    pub decimation: Options,
+    /// Draw a progress bar on standard error (only when it is a terminal).
+    pub progress: bool,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions {
+            tile_cells: 64,
+            reduction: 0.25,
+            decimation: Options {
+                // The default vertical exaggeration of `strata render`.
+                z_scale: 5.0,
+                ..Options::default()
+            },
+            progress: false,
+        }
+    }
+}
+
+impl BuildOptions {
+    fn check(&self) -> Result<()> {
+        if self.tile_cells == 0 || self.tile_cells > 4096 {
+            return Err(Error::Option(format!(
+                "tile_cells must be in 1..=4096, got {}",
+                self.tile_cells
+            )));
+        }
+        if !(self.reduction > 0.0 && self.reduction <= 1.0) {
+            return Err(Error::Option(format!(
+                "reduction must be in (0, 1], got {}",
+                self.reduction
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A node of a layer's quadtree.
+#[derive(Clone, Debug)]
+pub struct Node {
+    /// 0 for leaves (full resolution).
+    pub level: u32,
+    /// Tile coordinates at this level.
+    pub tile: [u32; 2],
+    /// Cells covered: `i0, j0, i1, j1`, ends excluded.
+    pub cells: [u32; 4],
+    /// Geometric error: largest horizontal and vertical distance between this
+    /// node's surface and the original at the same texture coordinates (see the
+    /// module documentation for how it is measured).
+    pub error: [f32; 2],
+    /// Bounds of the region (positions relative to the mesh origin).
+    pub bounds: ([f32; 3], [f32; 3]),
+    /// Vertex-cache ordered mesh, without cell faces.
+    pub mesh: SurfaceMesh,
+    /// Indices of the children in [`LayerTree::nodes`].
+    pub children: Vec<u32>,
+    /// Per vertex, the original vertex it is, or [`NONE`] for one placed by a collapse.
+    pub original: Vec<u32>,
+    /// Per vertex, a triangle of the original layer it lies on.
+    pub home: Vec<u32>,
+}
+
+/// The quadtree of one layer surface: the root first, then breadth first, so the
+/// children of a node are consecutive.
+#[derive(Clone, Debug, Default)]
+pub struct LayerTree {
+    pub nodes: Vec<Node>,
+}
+
+/// Builds the quadtree of `layer`, a layer surface of a grid of `dims` = `[nx, ny]`
+/// cells (texture coordinates `(2i + 1, 2j + 1)` at node `(i, j)`). Nodes of one
+/// level are built in parallel.
+pub fn build_layer(
+    layer: &SurfaceMesh,
+    dims: [u32; 2],
+    options: &BuildOptions,
+) -> Result<LayerTree> {
+    options.check()?;
+    if layer.is_empty() {
+        return Ok(LayerTree::default());
+    }
+    let reference = Reference::new(layer)?;
+    let labels = components(layer);
+    let t = options.tile_cells;
+    let tiles_at = |level: u32| -> [u32; 2] {
+        let span = t.saturating_mul(1 << level.min(31));
+        [dims[0].div_ceil(span).max(1), dims[1].div_ceil(span).max(1)]
+    };
+    let mut levels = 0;
+    while tiles_at(levels) != [1, 1] {
+        levels += 1;
+    }
+
+    // Leaves: triangles by the cell under their texture-space centroid.
+    let leaf_tiles = tiles_at(0);
+    let tile_of = |tri: &[u32; 3]| -> Option<usize> {
+        let (mut u, mut v) = (0f64, 0f64);
+        for &c in tri {
+            let tc = layer.texcoords[c as usize];
+            u += f64::from(tc[0]) / 3.0;
+            v += f64::from(tc[1]) / 3.0;
+        }
+        let (i, j) = (((u - 1.0) / 2.0).floor(), ((v - 1.0) / 2.0).floor());
+        let (tx, ty) = ((i / f64::from(t)).floor(), (j / f64::from(t)).floor());
+        (tx >= 0.0 && ty >= 0.0 && tx < f64::from(leaf_tiles[0]) && ty < f64::from(leaf_tiles[1]))
+            .then(|| ty as usize * leaf_tiles[0] as usize + tx as usize)
+    };
+    let tile_count = (leaf_tiles[0] * leaf_tiles[1]) as usize;
+    let mut start = vec![0u32; tile_count + 1];
+    let assigned: Vec<Option<usize>> = layer.triangles.par_iter().map(tile_of).collect();
+    if assigned.iter().any(Option::is_none) {
+        return Err(Error::Mesh(format!(
+            "a triangle's texture coordinates are outside the {} x {} cells of the grid",
+            dims[0], dims[1]
+        )));
+    }
+    for &a in assigned.iter().flatten() {
+        start[a + 1] += 1;
+    }
+    for i in 0..tile_count {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut by_tile = vec![0u32; layer.triangle_count()];
+    for (tri, &a) in assigned.iter().enumerate() {
+        if let Some(a) = a {
+            by_tile[fill[a] as usize] = tri as u32;
+            fill[a] += 1;
+        }
+    }
+    let span_cells = |level: u32, tile: [u32; 2]| -> [u32; 4] {
+        let span = t.saturating_mul(1 << level);
+        [
+            tile[0] * span,
+            tile[1] * span,
+            ((tile[0] + 1) * span).min(dims[0]),
+            ((tile[1] + 1) * span).min(dims[1]),
+        ]
+    };
+    let mut current: Vec<Option<Node>> = (0..tile_count)
+        .into_par_iter()
+        .map(|id| {
+            let tris = &by_tile[start[id] as usize..start[id + 1] as usize];
+            if tris.is_empty() {
+                return None;
+            }
+            let tile = [id as u32 % leaf_tiles[0], id as u32 / leaf_tiles[0]];
+            Some(leaf(layer, tris, tile, span_cells(0, tile)))
+        })
+        .collect();
+
+    // Parents, level by level; each level's nodes are kept in `done` (children
+    // first), then ordered breadth first at the end.
+    let mut done: Vec<Vec<Option<Node>>> = Vec::new();
+    for level in 1..=levels {
+        let below = tiles_at(level - 1);
+        let here = tiles_at(level);
+        let parents: Vec<Option<Node>> = (0..(here[0] * here[1]) as usize)
+            .into_par_iter()
+            .map(|id| {
+                let tile = [id as u32 % here[0], id as u32 / here[0]];
+                let children: Vec<(usize, &Node)> = (0..4)
+                    .filter_map(|k| {
+                        let (cx, cy) = (2 * tile[0] + (k & 1), 2 * tile[1] + (k >> 1));
+                        if cx >= below[0] || cy >= below[1] {
+                            return None;
+                        }
+                        let ci = (cy * below[0] + cx) as usize;
+                        current[ci].as_ref().map(|n| (ci, n))
+                    })
+                    .collect();
+                if children.is_empty() {
+                    return Ok(None);
+                }
+                let cells = span_cells(level, tile);
+                parent(
+                    &reference, &labels, &children, level, tile, cells, dims, options,
+                )
+                .map(Some)
+            })
+            .collect::<Result<_>>()?;
+        done.push(std::mem::replace(&mut current, parents));
+    }
+    done.push(current);
+    Ok(breadth_first(done))
+}
+
+/// A leaf: the triangles `tris` of `layer`, with their vertices.
+fn leaf(layer: &SurfaceMesh, tris: &[u32], tile: [u32; 2], cells: [u32; 4]) -> Node {
+    let mut verts: Vec<u32> = tris
+        .iter()
+        .flat_map(|&t| layer.triangles[t as usize])
+        .collect();
+    verts.sort_unstable();
+    verts.dedup();
+    let local = |v: u32| verts.binary_search(&v).map_or(NONE, |i| i as u32);
+    let mut mesh = SurfaceMesh::with_origin(layer.origin);
+    let mut home = vec![NONE; verts.len()];
+    for &t in tris {
+        let tri = layer.triangles[t as usize];
+        for &v in &tri {
+            let l = local(v) as usize;
+            if home[l] == NONE {
+                home[l] = t;
+            }
+        }
+        mesh.triangles.push(tri.map(local));
+    }
+    for &v in &verts {
+        mesh.positions.push(layer.positions[v as usize]);
+        mesh.texcoords.push(layer.texcoords[v as usize]);
+        if !layer.scalars.is_empty() {
+            mesh.scalars.push(layer.scalars[v as usize]);
+        }
+    }
+    let mut node = Node {
+        level: 0,
+        tile,
+        cells,
+        error: [0.0; 2],
+        bounds: mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3])),
+        mesh,
+        children: Vec::new(),
+        original: verts,
+        home,
+    };
+    reorder(&mut node);
+    node
+}
+
+/// Vertex-cache order for the node's mesh, carrying its per-vertex data along.
+fn reorder(node: &mut Node) {
+    let remap = optimize_order(&mut node.mesh);
+    let n = node.mesh.vertex_count();
+    permute_by(&mut node.original, &remap, n);
+    permute_by(&mut node.home, &remap, n);
+}
+
+/// A parent: its children merged and welded, simplified with its outer border
+/// locked, and its error measured.
+#[allow(clippy::too_many_arguments)]
+fn parent(
+    reference: &Reference,
+    labels: &[u32],
+    children: &[(usize, &Node)],
+    level: u32,
+    tile: [u32; 2],
+    cells: [u32; 4],
+    dims: [u32; 2],
+    options: &BuildOptions,
+) -> Result<Node> {
+    // Merge; vertices that are the same original vertex (the shared borders) are one.
+    let mut merged = SurfaceMesh::with_origin(reference.mesh().origin);
+    let (mut original, mut home) = (Vec::new(), Vec::new());
+    for (_, child) in children {
+        merged.append(&child.mesh);
+        original.extend_from_slice(&child.original);
+        home.extend_from_slice(&child.home);
+    }
+    let mut order: Vec<(u32, u32)> = original
+        .iter()
+        .enumerate()
+        .filter(|&(_, &o)| o != NONE)
+        .map(|(v, &o)| (o, v as u32))
+        .collect();
+    order.sort_unstable();
+    let mut weld: Vec<u32> = (0..merged.vertex_count() as u32).collect();
+    for w in order.windows(2) {
+        if w[0].0 == w[1].0 {
+            weld[w[1].1 as usize] = weld[w[0].1 as usize];
+        }
+    }
+    // Keep the first vertex of each welded group.
+    let mut keep = vec![NONE; weld.len()];
+    let mut next = 0u32;
+    for v in 0..weld.len() {
+        if weld[v] as usize == v {
+            keep[v] = next;
+            next += 1;
+        }
+    }
+    for t in merged.triangles.iter_mut() {
+        *t = t.map(|v| keep[weld[v as usize] as usize]);
+    }
+    let n = next as usize;
+    permute_by(&mut merged.positions, &keep, n);
+    permute_by(&mut merged.texcoords, &keep, n);
+    if !merged.scalars.is_empty() {
+        permute_by(&mut merged.scalars, &keep, n);
+    }
+    permute_by(&mut original, &keep, n);
+    permute_by(&mut home, &keep, n);
+
+    // Lock the outer border where a neighbour tile exists.
+    let line = |c: u32| (2 * c + 1) as f32;
+    let locked: Vec<bool> = merged
+        .texcoords
+        .iter()
+        .map(|&[u, v]| {
+            (cells[0] > 0 && u == line(cells[0]))
+                || (cells[2] < dims[0] && u == line(cells[2]))
+                || (cells[1] > 0 && v == line(cells[1]))
+                || (cells[3] < dims[1] && v == line(cells[3]))
+        })
+        .collect();
+    let target = ((merged.triangle_count() as f64) * options.reduction).ceil() as usize;
+    let decimation = Options {
+        target_triangles: target,
+        ..options.decimation.clone()
+    };
+    let simplified = decimate_on(&merged, &home, reference, &locked, &decimation)?;
+
+    // Error: distance to the children's surface at the children's vertices, plus
+    // the children's own error.
+    let measured = vertex_deviation(&merged, &home, &simplified.mesh, &simplified.home, labels);
+    let child_error = children.iter().fold([0f32; 2], |e, (_, c)| {
+        [e[0].max(c.error[0]), e[1].max(c.error[1])]
+    });
+    let (mut lo, mut hi) = simplified.mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+    for (_, c) in children {
+        for a in 0..3 {
+            lo[a] = lo[a].min(c.bounds.0[a]);
+            hi[a] = hi[a].max(c.bounds.1[a]);
+        }
+    }
+    let mut node = Node {
+        level,
+        tile,
+        cells,
+        error: [
+            child_error[0] + measured[0] as f32,
+            child_error[1] + measured[1] as f32,
+        ],
+        bounds: (lo, hi),
+        original: simplified
+            .source
+            .iter()
+            .map(|&s| {
+                if s == crate::NEW {
+                    NONE
+                } else {
+                    original[s as usize]
+                }
+            })
+            .collect(),
+        home: simplified.home,
+        mesh: simplified.mesh,
+        children: children.iter().map(|&(i, _)| i as u32).collect(),
+    };
+    reorder(&mut node);
+    Ok(node)
+}
+
+/// Largest horizontal and vertical distance, over the vertices of `from` (vertex `v`
+/// on original triangle `from_home[v]`), to the point of `to` with the same texture
+/// coordinates in the same component (`labels` of the original triangles).
+fn vertex_deviation(
+    from: &SurfaceMesh,
+    from_home: &[u32],
+    to: &SurfaceMesh,
+    to_home: &[u32],
+    labels: &[u32],
+) -> [f64; 2] {
+    let label_of = |home: u32| labels.get(home as usize).copied().unwrap_or(NONE);
+    let to_labels = to
+        .triangles
+        .iter()
+        .map(|t| label_of(to_home[t[0] as usize]))
+        .collect();
+    let index = UvIndex::new(to, to_labels);
+    let mut found = Vec::new();
+    let mut worst = [0f64; 2];
+    for (v, &home) in from_home.iter().enumerate() {
+        let uv = from.texcoords[v].map(f64::from);
+        let p = from.positions[v].map(f64::from);
+        let label = label_of(home);
+        index.find(uv, label, &mut found);
+        if found.is_empty()
+            && let Some(n) = index.nearest(uv, label, 2)
+        {
+            found.push(n);
+        }
+        let best = found
+            .iter()
+            .map(|f| {
+                let q = index.position(f);
+                let xy = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+                (xy, (q[2] - p[2]).abs())
+            })
+            .min_by(|a, b| (a.0 * a.0 + a.1 * a.1).total_cmp(&(b.0 * b.0 + b.1 * b.1)));
+        if let Some((xy, z)) = best {
+            worst = [worst[0].max(xy), worst[1].max(z)];
+        }
+    }
+    worst
+}
+
+/// Orders the nodes of all levels (`levels[0]` the leaves) root first, breadth first,
+/// with each node's children consecutive, and rewrites child indices accordingly.
+fn breadth_first(levels: Vec<Vec<Option<Node>>>) -> LayerTree {
+    let mut levels: Vec<Vec<Option<Node>>> = levels;
+    let top = levels.len() - 1;
+    let mut out: Vec<Node> = Vec::new();
+    // (level, index within level) of each output node, in order.
+    let mut queue: std::collections::VecDeque<(usize, usize)> = std::collections::VecDeque::new();
+    if let Some(root) = levels[top].iter().position(Option::is_some) {
+        queue.push_back((top, root));
+    }
+    while let Some((level, index)) = queue.pop_front() {
+        let Some(mut node) = levels[level][index].take() else {
+            continue;
+        };
+        let children = std::mem::take(&mut node.children);
+        let first = out.len() + queue.len() + 1;
+        node.children = (0..children.len() as u32)
+            .map(|k| first as u32 + k)
+            .collect();
+        for c in children {
+            queue.push_back((level - 1, c as usize));
+        }
+        out.push(node);
+    }
+    LayerTree { nodes: out }
+}

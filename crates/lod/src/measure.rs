@@ -1,0 +1,458 @@
+//! How far a simplified surface draws the original grid lines from where the
+//! original surface draws them.
+//!
+//! The global wireframe draws a line wherever a texture coordinate is odd. A point of
+//! the original surface with texture coordinates `uv` is therefore drawn, on the
+//! simplified surface, at the point that has the same `uv` there; the distance
+//! between the two is how far that bit of line moved. [`deviation`] samples the
+//! original's grid lines (its cell edges) and measures that distance for each sample.
+//!
+//! Texture coordinates name a point only within one connected piece of a surface
+//! (stacked layers share them, and so do the two sides of a fault along its trace),
+//! so samples are matched within their piece ("component") only, and where both sides
+//! of a fault draw the same coordinate, the nearer one counts.
+
+use rayon::prelude::*;
+use strata_grid::SurfaceMesh;
+
+use crate::reference::{NONE, SurfacePoint, VertexTriangles, cross2};
+
+/// Connected components of a mesh's triangles (through shared vertices), as one label
+/// per triangle, numbered in order of first appearance.
+pub fn components(mesh: &SurfaceMesh) -> Vec<u32> {
+    let mut parent: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
+    fn find(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            let p = parent[parent[v as usize] as usize];
+            parent[v as usize] = p;
+            v = p;
+        }
+        v
+    }
+    for t in &mesh.triangles {
+        let r0 = find(&mut parent, t[0]);
+        for &v in &t[1..] {
+            let r = find(&mut parent, v);
+            if r != r0 {
+                let (lo, hi) = (r.min(r0), r.max(r0));
+                parent[hi as usize] = lo;
+            }
+        }
+    }
+    let mut label = vec![NONE; mesh.vertex_count()];
+    let mut next = 0;
+    mesh.triangles
+        .iter()
+        .map(|t| {
+            let r = find(&mut parent, t[0]) as usize;
+            if label[r] == NONE {
+                label[r] = next;
+                next += 1;
+            }
+            label[r]
+        })
+        .collect()
+}
+
+/// A bucket grid over texture space: which triangles of a mesh (with a component
+/// label each) cover a texture coordinate.
+pub struct UvIndex<'m> {
+    mesh: &'m SurfaceMesh,
+    labels: Vec<u32>,
+    lo: [f64; 2],
+    cell: f64,
+    dims: [usize; 2],
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+/// Most buckets per triangle of the mesh; bounds the index's memory whatever the
+/// shape of the texture domain.
+const BUCKETS_PER_TRIANGLE: f64 = 2.0;
+
+impl<'m> UvIndex<'m> {
+    /// Indexes `mesh`, whose triangle `t` belongs to component `labels[t]`.
+    pub fn new(mesh: &'m SurfaceMesh, labels: Vec<u32>) -> Self {
+        assert_eq!(
+            labels.len(),
+            mesh.triangle_count(),
+            "one label per triangle"
+        );
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for t in mesh
+            .texcoords
+            .iter()
+            .filter(|t| t[0].is_finite() && t[1].is_finite())
+        {
+            for a in 0..2 {
+                lo[a] = lo[a].min(f64::from(t[a]));
+                hi[a] = hi[a].max(f64::from(t[a]));
+            }
+        }
+        let n = mesh.triangle_count().max(1) as f64;
+        let (w, h) = ((hi[0] - lo[0]).max(1e-9), (hi[1] - lo[1]).max(1e-9));
+        let cell = if lo[0] <= hi[0] {
+            (w * h * BUCKETS_PER_TRIANGLE.recip() / n).sqrt().max(1e-9)
+        } else {
+            lo = [0.0; 2];
+            1.0
+        };
+        let dims = [
+            ((w / cell).ceil() as usize).clamp(1, 1 << 15),
+            ((h / cell).ceil() as usize).clamp(1, 1 << 15),
+        ];
+        let cell = (w / dims[0] as f64).max(h / dims[1] as f64);
+        let grid = Grid { lo, cell, dims };
+        // Two sweeps: count, then fill (compressed rows).
+        let mut start = vec![0u32; dims[0] * dims[1] + 1];
+        for t in &mesh.triangles {
+            grid.buckets(mesh, t, |b| start[b + 1] += 1);
+        }
+        for b in 0..dims[0] * dims[1] {
+            start[b + 1] += start[b];
+        }
+        let mut fill = start.clone();
+        let mut items = vec![0; start[dims[0] * dims[1]] as usize];
+        for (i, t) in mesh.triangles.iter().enumerate() {
+            grid.buckets(mesh, t, |b| {
+                items[fill[b] as usize] = i as u32;
+                fill[b] += 1;
+            });
+        }
+        UvIndex {
+            mesh,
+            labels,
+            lo,
+            cell,
+            dims,
+            start,
+            items,
+        }
+    }
+
+    /// The bucket of `uv`, clamped into the grid (points outside the indexed domain
+    /// look at the border buckets, whose triangles then reject them).
+    fn bucket_of(&self, uv: [f64; 2]) -> Option<[usize; 2]> {
+        if !(uv[0].is_finite() && uv[1].is_finite()) {
+            return None;
+        }
+        let at = |x: f64, lo: f64, n: usize| {
+            (((x - lo) / self.cell).floor() as i64).clamp(0, n as i64 - 1) as usize
+        };
+        Some([
+            at(uv[0], self.lo[0], self.dims[0]),
+            at(uv[1], self.lo[1], self.dims[1]),
+        ])
+    }
+
+    fn bucket(&self, b: [usize; 2]) -> &[u32] {
+        let i = b[1] * self.dims[0] + b[0];
+        &self.items[self.start[i] as usize..self.start[i + 1] as usize]
+    }
+
+    pub fn mesh(&self) -> &'m SurfaceMesh {
+        self.mesh
+    }
+
+    /// Barycentric coordinates of `uv` in triangle `t` (texture space).
+    fn barycentric(&self, t: u32, uv: [f64; 2]) -> Option<[f64; 3]> {
+        let c =
+            self.mesh.triangles[t as usize].map(|v| self.mesh.texcoords[v as usize].map(f64::from));
+        let area = cross2(c[0], c[1], c[2]);
+        if area == 0.0 || !area.is_finite() {
+            return None;
+        }
+        Some([
+            cross2(uv, c[1], c[2]) / area,
+            cross2(c[0], uv, c[2]) / area,
+            cross2(c[0], c[1], uv) / area,
+        ])
+    }
+
+    /// The points of component `label` with texture coordinates `uv` (up to rounding:
+    /// barycentric coordinates down to `-1e-7`), into `out`.
+    pub fn find(&self, uv: [f64; 2], label: u32, out: &mut Vec<SurfacePoint>) {
+        out.clear();
+        let Some(b) = self.bucket_of(uv) else {
+            return;
+        };
+        for &t in self.bucket(b) {
+            if self.labels[t as usize] != label {
+                continue;
+            }
+            if let Some(w) = self.barycentric(t, uv)
+                && w.iter().all(|&x| x >= -1e-7)
+            {
+                out.push(SurfacePoint {
+                    triangle: t,
+                    barycentric: w,
+                });
+            }
+        }
+    }
+
+    /// The point of component `label` whose texture coordinates are nearest `uv`,
+    /// searching up to `rings` buckets around it (for samples just outside a
+    /// simplified boundary); `None` when no triangle of the component is that near.
+    pub fn nearest(&self, uv: [f64; 2], label: u32, rings: usize) -> Option<SurfacePoint> {
+        let x = ((uv[0] - self.lo[0]) / self.cell).floor() as i64;
+        let y = ((uv[1] - self.lo[1]) / self.cell).floor() as i64;
+        let mut best: Option<(f64, SurfacePoint)> = None;
+        let r = rings as i64;
+        for by in (y - r).max(0)..=(y + r).min(self.dims[1] as i64 - 1) {
+            for bx in (x - r).max(0)..=(x + r).min(self.dims[0] as i64 - 1) {
+                for &t in self.bucket([bx as usize, by as usize]) {
+                    if self.labels[t as usize] != label {
+                        continue;
+                    }
+                    let c = self.mesh.triangles[t as usize]
+                        .map(|v| self.mesh.texcoords[v as usize].map(f64::from));
+                    let (d2, w) = closest_in_triangle(uv, c);
+                    if best.as_ref().is_none_or(|(bd, _)| d2 < *bd) {
+                        best = Some((
+                            d2,
+                            SurfacePoint {
+                                triangle: t,
+                                barycentric: w,
+                            },
+                        ));
+                    }
+                }
+            }
+        }
+        best.map(|(_, p)| p)
+    }
+
+    /// Position at a point of the indexed mesh.
+    pub fn position(&self, p: &SurfacePoint) -> [f64; 3] {
+        let tri = self.mesh.triangles[p.triangle as usize];
+        let mut out = [0f64; 3];
+        for (&v, &w) in tri.iter().zip(&p.barycentric) {
+            let x = self.mesh.positions[v as usize];
+            for a in 0..3 {
+                out[a] += w * f64::from(x[a]);
+            }
+        }
+        out
+    }
+}
+
+/// The bucket layout of a [`UvIndex`].
+struct Grid {
+    lo: [f64; 2],
+    cell: f64,
+    dims: [usize; 2],
+}
+
+impl Grid {
+    /// Calls `f` with every bucket that the texture-space bounds of `t` touch.
+    fn buckets(&self, mesh: &SurfaceMesh, t: &[u32; 3], mut f: impl FnMut(usize)) {
+        let c = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
+        if c.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+            return;
+        }
+        let at = |x: f64, lo: f64, n: usize| {
+            (((x - lo) / self.cell).floor() as i64).clamp(0, n as i64 - 1) as usize
+        };
+        let (u0, u1) = (
+            c[0][0].min(c[1][0]).min(c[2][0]),
+            c[0][0].max(c[1][0]).max(c[2][0]),
+        );
+        let (v0, v1) = (
+            c[0][1].min(c[1][1]).min(c[2][1]),
+            c[0][1].max(c[1][1]).max(c[2][1]),
+        );
+        for y in at(v0, self.lo[1], self.dims[1])..=at(v1, self.lo[1], self.dims[1]) {
+            for x in at(u0, self.lo[0], self.dims[0])..=at(u1, self.lo[0], self.dims[0]) {
+                f(y * self.dims[0] + x);
+            }
+        }
+    }
+}
+
+/// Squared distance from `p` to triangle `c` (2D) and the barycentric coordinates
+/// of the closest point.
+fn closest_in_triangle(p: [f64; 2], c: [[f64; 2]; 3]) -> (f64, [f64; 3]) {
+    let area = cross2(c[0], c[1], c[2]);
+    if area != 0.0 && area.is_finite() {
+        let w = [
+            cross2(p, c[1], c[2]) / area,
+            cross2(c[0], p, c[2]) / area,
+            cross2(c[0], c[1], p) / area,
+        ];
+        if w.iter().all(|&x| x >= 0.0) {
+            return (0.0, w);
+        }
+    }
+    // Outside (or degenerate): the closest point of the three edges.
+    let mut best = (f64::INFINITY, [1.0, 0.0, 0.0]);
+    for k in 0..3 {
+        let (a, b) = (c[k], c[(k + 1) % 3]);
+        let e = [b[0] - a[0], b[1] - a[1]];
+        let len2 = e[0] * e[0] + e[1] * e[1];
+        let s = if len2 > 0.0 {
+            (((p[0] - a[0]) * e[0] + (p[1] - a[1]) * e[1]) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = [a[0] + s * e[0], a[1] + s * e[1]];
+        let d2 = (q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2);
+        if d2 < best.0 {
+            let mut w = [0.0; 3];
+            w[k] = 1.0 - s;
+            w[(k + 1) % 3] = s;
+            best = (d2, w);
+        }
+    }
+    best
+}
+
+/// Distances from the original grid lines to where the simplified surface draws them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Deviation {
+    /// Samples taken (points along the original cell edges).
+    pub samples: usize,
+    /// Largest and root-mean-square distance, in display length units (z scaled).
+    pub max: f64,
+    pub rms: f64,
+    /// Samples whose texture coordinate the simplified surface does not draw at all
+    /// (outside its simplified boundary); their distance to the nearest point it does
+    /// draw is included in `max` and `rms`.
+    pub outside: usize,
+}
+
+/// Samples every cell edge of `original` (every edge along which one texture
+/// coordinate is constant: the diagonals that split cell quads are no grid lines) at
+/// `per_edge` points, and measures each sample's distance to the point of `simplified`
+/// with the same texture coordinates in the same component. `home[v]` is a triangle of
+/// `original` that simplified vertex `v` lies on (or comes from), which gives each
+/// simplified triangle its component.
+pub fn deviation(
+    original: &SurfaceMesh,
+    simplified: &SurfaceMesh,
+    home: &[u32],
+    per_edge: usize,
+    z_scale: f64,
+) -> Deviation {
+    let labels = components(original);
+    let simplified_labels: Vec<u32> = simplified
+        .triangles
+        .iter()
+        .map(|t| {
+            t.iter()
+                .map(|&v| home.get(v as usize).copied().unwrap_or(NONE))
+                .find(|&h| h != NONE && (h as usize) < labels.len())
+                .map_or(NONE, |h| labels[h as usize])
+        })
+        .collect();
+    let index = UvIndex::new(simplified, simplified_labels);
+    let vt = VertexTriangles::new(original.vertex_count(), &original.triangles);
+    let per_edge = per_edge.max(1);
+    let (sum, max, samples, outside) = original
+        .triangles
+        .par_iter()
+        .enumerate()
+        .map_init(Vec::new, |found, (t, tri)| {
+            let mut acc = (0f64, 0f64, 0usize, 0usize);
+            for k in 0..3 {
+                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
+                let (ta, tb) = (original.texcoords[a], original.texcoords[b]);
+                // Each cell edge once (from the triangle where it runs a -> b with
+                // a < b, or from its only triangle on a boundary either way).
+                let on_line = ta[0] == tb[0] || ta[1] == tb[1];
+                let boundary = || {
+                    !vt.of(a as u32).iter().any(|&s| {
+                        s as usize != t && original.triangles[s as usize].contains(&(b as u32))
+                    })
+                };
+                if !on_line || (a > b && !boundary()) {
+                    continue;
+                }
+                for i in 0..per_edge {
+                    let s = i as f64 / per_edge as f64;
+                    let lerp = |x: f32, y: f32| f64::from(x) + s * (f64::from(y) - f64::from(x));
+                    let uv = [lerp(ta[0], tb[0]), lerp(ta[1], tb[1])];
+                    let (pa, pb) = (original.positions[a], original.positions[b]);
+                    let p = [lerp(pa[0], pb[0]), lerp(pa[1], pb[1]), lerp(pa[2], pb[2])];
+                    index.find(uv, labels[t], found);
+                    let mut inside = true;
+                    if found.is_empty()
+                        && let Some(n) = index.nearest(uv, labels[t], 2)
+                    {
+                        found.push(n);
+                        inside = false;
+                    }
+                    let d = found
+                        .iter()
+                        .map(|f| {
+                            let q = index.position(f);
+                            let dz = (q[2] - p[2]) * z_scale;
+                            ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + dz * dz).sqrt()
+                        })
+                        .fold(f64::INFINITY, f64::min);
+                    if d.is_finite() {
+                        acc.0 += d * d;
+                        acc.1 = acc.1.max(d);
+                        acc.2 += 1;
+                        acc.3 += usize::from(!inside);
+                    }
+                }
+            }
+            acc
+        })
+        .reduce(
+            || (0.0, 0.0, 0, 0),
+            |x, y| (x.0 + y.0, x.1.max(y.1), x.2 + y.2, x.3 + y.3),
+        );
+    Deviation {
+        samples,
+        max,
+        rms: if samples > 0 {
+            (sum / samples as f64).sqrt()
+        } else {
+            0.0
+        },
+        outside,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Options, decimate};
+
+    #[test]
+    fn identical_surfaces_deviate_by_nothing_and_a_lift_is_measured() {
+        let mesh = SurfaceMesh::structured(6, 4, |i, j| {
+            [i as f32 * 10.0, j as f32 * 10.0, (i + j) as f32]
+        });
+        let home: Vec<u32> = crate::Reference::new(&mesh)
+            .unwrap()
+            .vertex_triangle
+            .clone();
+        let same = deviation(&mesh, &mesh, &home, 3, 1.0);
+        assert!(same.max < 1e-9, "{same:?}");
+        // 6 x 4 cells have 6 x 5 edges along i and 7 x 4 along j; 3 samples each.
+        assert_eq!(same.samples, 3 * (6 * 5 + 7 * 4));
+        let mut lifted = mesh.clone();
+        lifted.positions.iter_mut().for_each(|p| p[2] += 2.0);
+        let d = deviation(&mesh, &lifted, &home, 3, 5.0);
+        assert!(
+            (d.max - 10.0).abs() < 1e-6 && (d.rms - 10.0).abs() < 1e-6,
+            "{d:?}"
+        );
+        assert_eq!(d.outside, 0);
+    }
+
+    #[test]
+    fn components_split_at_faults() {
+        // Two separate quads.
+        let mut mesh = SurfaceMesh::structured(1, 1, |i, j| [i as f32, j as f32, 0.0]);
+        let other = SurfaceMesh::structured(1, 1, |i, j| [i as f32 + 1.0, j as f32, 5.0]);
+        mesh.append(&other);
+        assert_eq!(components(&mesh), vec![0, 0, 1, 1]);
+        // Simplified as far as it goes, each quad keeps a triangle of its own.
+        let d = decimate(&mesh, &Options::default()).unwrap();
+        assert_eq!(components(&d.mesh), vec![0, 1]);
+    }
+}

@@ -1,0 +1,269 @@
+//! Generalized quadric error metrics in the joint space of position and attributes
+//! (Garland & Heckbert, "Simplifying surfaces with color and texture using quadric
+//! error metrics", 1998).
+//!
+//! A vertex is a point of R⁶: the three position coordinates (z scaled by the view's
+//! vertical exaggeration) and the two global texture coordinates and the scalar, each
+//! scaled into length units. A triangle spans a plane of R⁶; its quadric gives the
+//! squared distance of any point to that plane. Summed over the triangles around a
+//! vertex, the quadric measures how far a replacement point moves the surface *and*
+//! how far it moves the grid lines across it: on a flat layer whose cells are not
+//! parallelograms, the texture coordinates are not affine in position, and only the
+//! attribute part sees that a large triangle would bend the drawn grid lines.
+//!
+//! Values are `f64`: quadric coefficients are sums of squares of coordinates and lose
+//! everything in `f32` long before the errors we rank are small.
+
+/// Dimension of the joint space: position (3), texture coordinates (2), scalar (1).
+pub(crate) const DIM: usize = 6;
+/// Stored coefficients of the symmetric `DIM x DIM` matrix (upper triangle).
+const SYM: usize = DIM * (DIM + 1) / 2;
+
+/// A point of the joint space.
+pub(crate) type Point = [f64; DIM];
+
+/// Index of `(i, j)`, `i <= j`, in the packed upper triangle.
+const fn packed(i: usize, j: usize) -> usize {
+    i * DIM - i * (i + 1) / 2 + j
+}
+
+/// `x ↦ xᵀ A x + 2 bᵀ x + c`, with `w` the total weight (area) summed in, so that
+/// `value / w` is a mean squared distance in length units.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Quadric {
+    a: [f64; SYM],
+    b: [f64; DIM],
+    c: f64,
+    pub w: f64,
+}
+
+#[inline]
+pub(crate) fn dot(x: &Point, y: &Point) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+impl Quadric {
+    /// Squared distance to the plane of the triangle `p q r`, times `weight` (its
+    /// area). Degenerate triangles give the zero quadric.
+    pub fn triangle(p: &Point, q: &Point, r: &Point, weight: f64) -> Quadric {
+        let sub = |x: &Point, y: &Point| -> Point { std::array::from_fn(|k| x[k] - y[k]) };
+        let mut e1 = sub(q, p);
+        let l1 = dot(&e1, &e1).sqrt();
+        if l1 <= 0.0 || !l1.is_finite() {
+            return Quadric::default();
+        }
+        e1.iter_mut().for_each(|x| *x /= l1);
+        let pr = sub(r, p);
+        let along = dot(&e1, &pr);
+        let mut e2: Point = std::array::from_fn(|k| pr[k] - along * e1[k]);
+        let l2 = dot(&e2, &e2).sqrt();
+        if l2 <= 1e-12 * l1 || !l2.is_finite() {
+            return Quadric::default();
+        }
+        e2.iter_mut().for_each(|x| *x /= l2);
+        let (pe1, pe2) = (dot(p, &e1), dot(p, &e2));
+        let mut out = Quadric {
+            w: weight,
+            c: weight * (dot(p, p) - pe1 * pe1 - pe2 * pe2),
+            ..Quadric::default()
+        };
+        for i in 0..DIM {
+            out.b[i] = weight * (pe1 * e1[i] + pe2 * e2[i] - p[i]);
+            for j in i..DIM {
+                let identity = if i == j { 1.0 } else { 0.0 };
+                out.a[packed(i, j)] = weight * (identity - e1[i] * e1[j] - e2[i] * e2[j]);
+            }
+        }
+        out
+    }
+
+    /// Squared distance of the position part to the plane `n · x = d` (`n` a unit
+    /// vector), times `weight`; carries no area into `w`. Used along boundary edges,
+    /// for a plane through the edge perpendicular to its triangle, so that moving an
+    /// outline, hole or fault trace costs what moving it off that line costs.
+    pub fn plane(n: [f64; 3], d: f64, weight: f64) -> Quadric {
+        let mut out = Quadric {
+            c: weight * d * d,
+            ..Quadric::default()
+        };
+        for i in 0..3 {
+            out.b[i] = -weight * d * n[i];
+            for j in i..3 {
+                out.a[packed(i, j)] = weight * n[i] * n[j];
+            }
+        }
+        out
+    }
+
+    pub fn add(&mut self, o: &Quadric) {
+        self.a.iter_mut().zip(&o.a).for_each(|(x, y)| *x += y);
+        self.b.iter_mut().zip(&o.b).for_each(|(x, y)| *x += y);
+        self.c += o.c;
+        self.w += o.w;
+    }
+
+    pub fn sum(&self, o: &Quadric) -> Quadric {
+        let mut s = *self;
+        s.add(o);
+        s
+    }
+
+    /// `A x`, written out: this product is most of the cost of decimation.
+    #[inline]
+    pub fn apply(&self, x: &Point) -> Point {
+        let a = &self.a;
+        [
+            a[0] * x[0] + a[1] * x[1] + a[2] * x[2] + a[3] * x[3] + a[4] * x[4] + a[5] * x[5],
+            a[1] * x[0] + a[6] * x[1] + a[7] * x[2] + a[8] * x[3] + a[9] * x[4] + a[10] * x[5],
+            a[2] * x[0] + a[7] * x[1] + a[11] * x[2] + a[12] * x[3] + a[13] * x[4] + a[14] * x[5],
+            a[3] * x[0] + a[8] * x[1] + a[12] * x[2] + a[15] * x[3] + a[16] * x[4] + a[17] * x[5],
+            a[4] * x[0] + a[9] * x[1] + a[13] * x[2] + a[16] * x[3] + a[18] * x[4] + a[19] * x[5],
+            a[5] * x[0] + a[10] * x[1] + a[14] * x[2] + a[17] * x[3] + a[19] * x[4] + a[20] * x[5],
+        ]
+    }
+
+    /// `xᵀ A x + 2 bᵀ x + c` from a precomputed `A x`.
+    #[inline]
+    pub fn value_with(&self, x: &Point, ax: &Point) -> f64 {
+        (dot(x, ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
+    }
+
+    /// [`Quadric::error`] from a precomputed `A x`.
+    #[inline]
+    pub fn error_with(&self, x: &Point, ax: &Point) -> f64 {
+        let v = self.value_with(x, ax);
+        if self.w > 0.0 { v / self.w } else { v }
+    }
+
+    /// Turns a quadric value into an error (see [`Quadric::error`]).
+    #[inline]
+    pub fn normalize(&self, value: f64) -> f64 {
+        let v = value.max(0.0);
+        if self.w > 0.0 { v / self.w } else { v }
+    }
+
+    /// `xᵀ A x + 2 bᵀ x + c`, never negative.
+    pub fn value(&self, x: &Point) -> f64 {
+        let ax = self.apply(x);
+        (dot(x, &ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
+    }
+
+    /// The mean squared distance at `x`: `value / w` (the value itself when nothing
+    /// with an area was summed in).
+    pub fn error(&self, x: &Point) -> f64 {
+        let v = self.value(x);
+        if self.w > 0.0 { v / self.w } else { v }
+    }
+
+    /// Minimum over the plane `x0 + J d` (`J`: two columns of R⁶), as `d` and the
+    /// quadric's value there, given `A x0` and `A J`; `None` when the quadric
+    /// restricted to that plane is not well conditioned (flat along some direction,
+    /// so the minimum is not unique).
+    pub fn minimize_on_plane(
+        &self,
+        x0: &Point,
+        ax0: &Point,
+        j: &[Point; 2],
+        aj: &[Point; 2],
+    ) -> Option<([f64; 2], f64)> {
+        let h = [dot(&j[0], &aj[0]), dot(&j[0], &aj[1]), dot(&j[1], &aj[1])];
+        let g: [f64; 2] = std::array::from_fn(|k| dot(&j[k], ax0) + dot(&j[k], &self.b));
+        let det = h[0] * h[2] - h[1] * h[1];
+        let trace = h[0] + h[2];
+        if !(trace > 0.0 && det > 1e-9 * trace * trace) {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let d = [
+            -(h[2] * g[0] - h[1] * g[1]) * inv,
+            -(h[0] * g[1] - h[1] * g[0]) * inv,
+        ];
+        let value = self.value_with(x0, ax0)
+            + 2.0 * (d[0] * g[0] + d[1] * g[1])
+            + d[0] * d[0] * h[0]
+            + 2.0 * d[0] * d[1] * h[1]
+            + d[1] * d[1] * h[2];
+        Some((d, value))
+    }
+
+    /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
+    /// there, given `A x0` and `A e`.
+    pub fn minimize_on_segment(
+        &self,
+        x0: &Point,
+        ax0: &Point,
+        e: &Point,
+        ae: &Point,
+    ) -> (f64, f64) {
+        let h = dot(e, ae);
+        let g = dot(e, ax0) + dot(e, &self.b);
+        let t = if h > 0.0 {
+            (-g / h).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (t, self.value_with(x0, ax0) + 2.0 * t * g + t * t * h)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pt(x: f64, y: f64, z: f64, u: f64, v: f64, s: f64) -> Point {
+        [x, y, z, u, v, s]
+    }
+
+    #[test]
+    fn triangle_quadric_is_squared_distance_to_its_plane() {
+        let (p, q, r) = (
+            pt(0.0, 0.0, 0.0, 1.0, 1.0, 0.0),
+            pt(2.0, 0.0, 0.0, 3.0, 1.0, 0.0),
+            pt(0.0, 2.0, 0.0, 1.0, 3.0, 0.0),
+        );
+        let quad = Quadric::triangle(&p, &q, &r, 1.0);
+        for x in [p, q, r, pt(0.5, 0.5, 0.0, 1.5, 1.5, 0.0)] {
+            assert!(quad.value(&x) < 1e-12, "{x:?} is on the plane");
+        }
+        // Off the plane by 3 in z, and the texture coordinates off by 4 in u.
+        assert!((quad.value(&pt(0.5, 0.5, 3.0, 1.5, 1.5, 0.0)) - 9.0).abs() < 1e-9);
+        assert!((quad.value(&pt(0.5, 0.5, 0.0, 5.5, 1.5, 0.0)) - 8.0).abs() < 1e-9);
+        assert!((quad.value(&pt(0.5, 0.5, 0.0, 1.5, 1.5, 2.0)) - 4.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn minimum_on_a_plane_and_a_segment() {
+        // Two planes z = 1 and z = -1 in position only: the best z is 0.
+        let mut quad = Quadric::plane([0.0, 0.0, 1.0], 1.0, 1.0);
+        quad.add(&Quadric::plane([0.0, 0.0, 1.0], -1.0, 1.0));
+        let x0 = pt(0.0, 0.0, 5.0, 0.0, 0.0, 0.0);
+        let e = pt(0.0, 0.0, -10.0, 0.0, 0.0, 0.0);
+        let (t, value) = quad.minimize_on_segment(&x0, &quad.apply(&x0), &e, &quad.apply(&e));
+        // At z = 0 both planes are at distance 1.
+        assert!(
+            (t - 0.5).abs() < 1e-12 && (value - 2.0).abs() < 1e-9,
+            "{t} {value}"
+        );
+        // The plane spanned by x and z: flat along x, so no unique minimum.
+        let j = [
+            pt(1.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            pt(0.0, 0.0, 1.0, 0.0, 0.0, 0.0),
+        ];
+        let on_plane = |quad: &Quadric| {
+            let aj = [quad.apply(&j[0]), quad.apply(&j[1])];
+            quad.minimize_on_plane(&x0, &quad.apply(&x0), &j, &aj)
+        };
+        assert_eq!(on_plane(&quad), None);
+        // Add x = 2 and the minimum is unique: x = 2, z = 0.
+        quad.add(&Quadric::plane([1.0, 0.0, 0.0], 2.0, 1.0));
+        let (d, value) = on_plane(&quad).unwrap();
+        assert!(
+            (d[0] - 2.0).abs() < 1e-9 && (d[1] + 5.0).abs() < 1e-9,
+            "{d:?}"
+        );
+        assert!(
+            (value - 2.0).abs() < 1e-9
+                && (value - quad.value(&pt(2.0, 0.0, 0.0, 0.0, 0.0, 0.0))).abs() < 1e-9
+        );
+    }
+}

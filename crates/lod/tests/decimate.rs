@@ -1,0 +1,281 @@
+//! Decimation keeps the original wireframe where it was: attributes at kept vertices
+//! untouched, new vertices on the original surface with the original's texture
+//! coordinates there, nothing folded, holes and faults kept.
+
+mod common;
+
+use common::{faulted_grid, layer, shared_data, topology};
+use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
+use strata_lod::measure::{UvIndex, components, deviation};
+use strata_lod::{Decimated, NEW, Options, decimate};
+
+/// Position tolerance for "on the original surface": f32 rounding of coordinates of a
+/// few kilometres is about 1e-4 m.
+const ON_SURFACE_M: f64 = 1e-3;
+/// Texture tolerance: a cell is 2 units wide, so this is 1/20000 of a cell.
+const TEXCOORD: f64 = 1e-4;
+
+fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
+    let options = Options {
+        z_scale: 5.0,
+        ..Options::fraction(mesh, fraction)
+    };
+    decimate(mesh, &options).expect("decimate")
+}
+
+/// Closest point of triangle `abc` to `p`, with its barycentric coordinates.
+fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    // Ericson, Real-Time Collision Detection, 5.1.5.
+    let (a, b, c) = (t[0], t[1], t[2]);
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    let w = if d1 <= 0.0 && d2 <= 0.0 {
+        [1.0, 0.0, 0.0]
+    } else {
+        let bp = sub(p, b);
+        let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+        let cp = sub(p, c);
+        let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+        let (va, vb, vc) = (d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2);
+        if d3 >= 0.0 && d4 <= d3 {
+            [0.0, 1.0, 0.0]
+        } else if d6 >= 0.0 && d5 <= d6 {
+            [0.0, 0.0, 1.0]
+        } else if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+            let v = d1 / (d1 - d3);
+            [1.0 - v, v, 0.0]
+        } else if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+            let w = d2 / (d2 - d6);
+            [1.0 - w, 0.0, w]
+        } else if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+            let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+            [0.0, 1.0 - w, w]
+        } else {
+            let denom = 1.0 / (va + vb + vc);
+            let (v, w) = (vb * denom, vc * denom);
+            [1.0 - v - w, v, w]
+        }
+    };
+    let q: [f64; 3] = std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]);
+    let d = sub(q, p);
+    (dot(d, d).sqrt(), w)
+}
+
+/// Every check of the module on one decimation; returns the number of new vertices.
+fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
+    let mesh = &out.mesh;
+    mesh.validate().unwrap();
+    assert_eq!(out.source.len(), mesh.vertex_count());
+    assert_eq!(out.home.len(), mesh.vertex_count());
+
+    // Surviving original vertices: attributes bit for bit.
+    for (v, &s) in out.source.iter().enumerate() {
+        if s != NEW {
+            let s = s as usize;
+            assert_eq!(mesh.texcoords[v], original.texcoords[s], "vertex {v}");
+            assert_eq!(mesh.positions[v], original.positions[s], "vertex {v}");
+        }
+    }
+
+    // New vertices: on the original surface (brute force over all its triangles), with
+    // the texture coordinates and scalar of the original there.
+    let tri = |t: &[u32; 3]| t.map(|v| original.positions[v as usize].map(f64::from));
+    let mut new = 0;
+    for (v, _) in out.source.iter().enumerate().filter(|&(_, &s)| s == NEW) {
+        new += 1;
+        let p = mesh.positions[v].map(f64::from);
+        let (dist, t, w) = original
+            .triangles
+            .iter()
+            .map(|t| {
+                let (d, w) = closest_on_triangle(p, tri(t));
+                (d, t, w)
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap();
+        assert!(
+            dist < ON_SURFACE_M,
+            "new vertex {v} is {dist} m off the surface"
+        );
+        let uv: [f64; 2] = std::array::from_fn(|a| {
+            (0..3)
+                .map(|k| w[k] * f64::from(original.texcoords[t[k] as usize][a]))
+                .sum()
+        });
+        let got = mesh.texcoords[v].map(f64::from);
+        assert!(
+            (uv[0] - got[0]).abs() < TEXCOORD && (uv[1] - got[1]).abs() < TEXCOORD,
+            "new vertex {v}: texture {got:?}, the original has {uv:?} there"
+        );
+        if !original.scalars.is_empty() {
+            let s: f64 = (0..3)
+                .map(|k| w[k] * f64::from(original.scalars[t[k] as usize]))
+                .sum();
+            let got = f64::from(mesh.scalars[v]);
+            assert!(
+                (s - got).abs() <= 1e-4 * s.abs().max(1.0),
+                "scalar {got} vs {s}"
+            );
+        }
+    }
+
+    // Nothing folded: every triangle keeps the texture-space orientation of the
+    // original (counter-clockwise in layer surfaces) and faces the way the original
+    // faces at its centroid.
+    let labels = components(original);
+    let index = UvIndex::new(original, labels.clone());
+    let mut found = Vec::new();
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        let uv = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
+        let area = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1])
+            - (uv[1][1] - uv[0][1]) * (uv[2][0] - uv[0][0]);
+        assert!(
+            area > 0.0,
+            "triangle {i} is folded in texture space ({area})"
+        );
+        let p = t.map(|v| mesh.positions[v as usize].map(f64::from));
+        let cross = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
+            let (u, w) = (
+                [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+                [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+            );
+            [
+                u[1] * w[2] - u[2] * w[1],
+                u[2] * w[0] - u[0] * w[2],
+                u[0] * w[1] - u[1] * w[0],
+            ]
+        };
+        let n = cross(p[0], p[1], p[2]);
+        let centre = [
+            (uv[0][0] + uv[1][0] + uv[2][0]) / 3.0,
+            (uv[0][1] + uv[1][1] + uv[2][1]) / 3.0,
+        ];
+        let label = labels[out.home[t[0] as usize] as usize];
+        index.find(centre, label, &mut found);
+        if let Some(f) = found.first() {
+            let o = original.triangles[f.triangle as usize]
+                .map(|v| original.positions[v as usize].map(f64::from));
+            let m = cross(o[0], o[1], o[2]);
+            let dot = n[0] * m[0] + n[1] * m[1] + n[2] * m[2];
+            assert!(dot > 0.0, "triangle {i} faces away from the original");
+        }
+    }
+
+    // Holes and faults: same components, each with the same boundary loops and Euler
+    // characteristic (a hole closed, a fault stitched or a strip pinched would change
+    // one of them), and boundary vertices only from the original boundary.
+    let before = topology(original, &labels);
+    let after_labels: Vec<u32> = mesh
+        .triangles
+        .iter()
+        .map(|t| labels[out.home[t[0] as usize] as usize])
+        .collect();
+    assert_eq!(
+        components(mesh).iter().max(),
+        labels.iter().max(),
+        "components merged or split"
+    );
+    let after = topology(mesh, &after_labels);
+    assert_eq!(before.len(), after.len());
+    for (c, (b, a)) in before.iter().zip(&after).enumerate() {
+        assert_eq!(b.loops, a.loops, "component {c}: boundary loops");
+        assert_eq!(b.euler(), a.euler(), "component {c}: Euler characteristic");
+    }
+    let original_boundary: std::collections::HashSet<u32> = common::edge_uses(original)
+        .into_iter()
+        .filter(|&(_, u)| u == 1)
+        .flat_map(|((a, b), _)| [a, b])
+        .collect();
+    for ((a, b), u) in common::edge_uses(mesh) {
+        if u == 1 {
+            for v in [a, b] {
+                let s = out.source[v as usize];
+                assert!(
+                    s != NEW && original_boundary.contains(&s),
+                    "boundary vertex {v} is not an original boundary vertex"
+                );
+            }
+        }
+    }
+    new
+}
+
+#[test]
+fn faulted_layer_keeps_its_wireframe_at_ten_percent() {
+    let grid = faulted_grid(40, 30);
+    let original = layer(&grid, 1);
+    let out = decimate_to(&original, 0.1);
+    let target = (original.triangle_count() as f64 * 0.1).round() as usize;
+    assert!(
+        out.mesh.triangle_count() <= target + target / 5,
+        "{} triangles for a target of {target}",
+        out.mesh.triangle_count()
+    );
+    assert!(out.error > 0.0 && out.error.is_finite());
+    let new = check(&original, &out);
+    assert!(new > 10, "collapses should place new vertices ({new})");
+    // The grid lines moved by little, in the view's exaggerated frame (z x 5): under
+    // a cell (50 m) everywhere, and under a quarter of one on average.
+    let d = deviation(&original, &out.mesh, &out.home, 4, 5.0);
+    assert!(d.max < 50.0 && d.rms < 12.5, "{d:?}");
+}
+
+#[test]
+fn deterministic() {
+    let grid = faulted_grid(30, 20);
+    let original = layer(&grid, 0);
+    let a = decimate_to(&original, 0.2);
+    let b = decimate_to(&original, 0.2);
+    assert_eq!(a.mesh, b.mesh);
+    assert_eq!(a.source, b.source);
+}
+
+#[test]
+fn error_bound_stops_early_and_is_reported() {
+    let grid = faulted_grid(30, 20);
+    let original = layer(&grid, 0);
+    let loose = decimate_to(&original, 0.05);
+    let options = Options {
+        z_scale: 5.0,
+        max_error: loose.error / 4.0,
+        ..Options::fraction(&original, 0.05)
+    };
+    let tight = decimate(&original, &options).unwrap();
+    assert!(
+        tight.error <= options.max_error,
+        "{} > {}",
+        tight.error,
+        options.max_error
+    );
+    assert!(tight.mesh.triangle_count() > loose.mesh.triangle_count());
+    check(&original, &tight);
+}
+
+#[test]
+fn real_models_keep_their_wireframe() {
+    let Some(data) = shared_data("real_models_keep_their_wireframe") else {
+        return;
+    };
+    for (file, k) in [
+        ("reek/REEK.EGRID", 0),
+        ("emerald/eme_small_w_hole_grid_params.grdecl", 5),
+    ] {
+        let options = ReadOptions {
+            grid_only: true,
+            ..ReadOptions::default()
+        };
+        let grid = strata_grid::open_with(&data.join(file), &options).unwrap();
+        let original = layer_surface(&grid, k, Face::Top, None, grid.display_origin()).unwrap();
+        let out = decimate_to(&original, 0.1);
+        let new = check(&original, &out);
+        eprintln!(
+            "{file} layer {}: {} -> {} triangles, {new} new vertices, error {}",
+            k + 1,
+            original.triangle_count(),
+            out.mesh.triangle_count(),
+            out.error
+        );
+    }
+}

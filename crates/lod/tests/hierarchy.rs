@@ -1,0 +1,290 @@
+//! The tiled hierarchy: crack-free borders between neighbours at any two levels,
+//! errors that grow towards the root, and the saved file read back by memory mapping.
+
+mod common;
+
+use common::{faulted_grid, layer, shared_data};
+use std::collections::HashMap;
+use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
+
+use strata_lod::{
+    BuildOptions, LayerTree, LodFile, NONE, Node, ViewPoint, build_file, build_layer,
+};
+
+fn options(tile_cells: u32) -> BuildOptions {
+    BuildOptions {
+        tile_cells,
+        ..BuildOptions::default()
+    }
+}
+
+fn distance_to_segment(p: [f64; 3], s: [[f32; 3]; 2]) -> f64 {
+    let (a, b) = (s[0].map(f64::from), s[1].map(f64::from));
+    let e: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+    let len2: f64 = e.iter().map(|x| x * x).sum();
+    let t = if len2 > 0.0 {
+        ((0..3).map(|k| (p[k] - a[k]) * e[k]).sum::<f64>() / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..3)
+        .map(|k| (a[k] + t * e[k] - p[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Checks the border edges of node `a` on the stretch `lo..=hi` (texture units) of
+/// the grid line `line` where the original surface continues across the line (an
+/// interior edge of the original: not a fault trace, hole or outline, where the two
+/// sides legitimately part): five points along each must lie on the border of `b`.
+/// Returns the number of edges checked.
+fn covered(
+    a: &Node,
+    b: &Node,
+    original: &HashMap<(u32, u32), usize>,
+    (axis, line, lo, hi): (usize, f32, f32, f32),
+) -> usize {
+    let other = 1 - axis;
+    let on_stretch = |m: &SurfaceMesh, v: u32| {
+        let t = m.texcoords[v as usize];
+        t[axis] == line && t[other] >= lo && t[other] <= hi
+    };
+    let theirs: Vec<[[f32; 3]; 2]> = common::edge_uses(&b.mesh)
+        .into_iter()
+        .filter(|&((p, q), u)| u == 1 && on_stretch(&b.mesh, p) && on_stretch(&b.mesh, q))
+        .map(|((p, q), _)| [b.mesh.positions[p as usize], b.mesh.positions[q as usize]])
+        .collect();
+    let mut checked = 0;
+    for ((p, q), u) in common::edge_uses(&a.mesh) {
+        if u != 1 || !on_stretch(&a.mesh, p) || !on_stretch(&a.mesh, q) {
+            continue;
+        }
+        let (op, oq) = (a.original[p as usize], a.original[q as usize]);
+        assert!(
+            op != NONE && oq != NONE,
+            "a border vertex is not an original vertex"
+        );
+        if original.get(&(op.min(oq), op.max(oq))) != Some(&2) {
+            continue;
+        }
+        let (pp, pq) = (a.mesh.positions[p as usize], a.mesh.positions[q as usize]);
+        for s in 0..5 {
+            let t = f64::from(s) / 4.0;
+            let x: [f64; 3] =
+                std::array::from_fn(|k| f64::from(pp[k]) + t * f64::from(pq[k] - pp[k]));
+            let d = theirs
+                .iter()
+                .map(|&seg| distance_to_segment(x, seg))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                d < 1e-3,
+                "level {} tile {:?}: border point {x:?} is {d} from the border of its level {} neighbour {:?}",
+                a.level,
+                a.tile,
+                b.level,
+                b.tile
+            );
+        }
+        checked += 1;
+    }
+    checked
+}
+
+/// For every pair of nodes whose cell rectangles share a stretch of border (any two
+/// levels), each one's border edges there lie on the other's; returns the number of
+/// pairs with edges checked.
+fn assert_crack_free(tree: &LayerTree, layer: &SurfaceMesh) -> usize {
+    let original = common::edge_uses(layer);
+    let mut pairs = 0;
+    let nodes = &tree.nodes;
+    let overlap = |lo0: u32, hi0: u32, lo1: u32, hi1: u32| lo0.max(lo1) < hi0.min(hi1);
+    for (i, a) in nodes.iter().enumerate() {
+        for b in nodes.iter().skip(i + 1) {
+            let (ca, cb) = (a.cells, b.cells);
+            // a's east side on b's west side or the other way round, overlapping in j;
+            // likewise north and south.
+            let shared = if (ca[2] == cb[0] || cb[2] == ca[0])
+                && overlap(ca[1], ca[3], cb[1], cb[3])
+            {
+                let line = if ca[2] == cb[0] { ca[2] } else { ca[0] };
+                Some((0, line, ca[1].max(cb[1]), ca[3].min(cb[3])))
+            } else if (ca[3] == cb[1] || cb[3] == ca[1]) && overlap(ca[0], ca[2], cb[0], cb[2]) {
+                let line = if ca[3] == cb[1] { ca[3] } else { ca[1] };
+                Some((1, line, ca[0].max(cb[0]), ca[2].min(cb[2])))
+            } else {
+                None
+            };
+            let Some((axis, line, lo, hi)) = shared else {
+                continue;
+            };
+            let odd = |c: u32| (2 * c + 1) as f32;
+            let stretch = (axis, odd(line), odd(lo), odd(hi));
+            let n = covered(a, b, &original, stretch) + covered(b, a, &original, stretch);
+            pairs += usize::from(n > 0);
+        }
+    }
+    pairs
+}
+
+#[test]
+fn neighbours_at_every_pair_of_levels_share_their_borders() {
+    let grid = faulted_grid(50, 40);
+    let mesh = layer(&grid, 1);
+    let tree = build_layer(&mesh, [50, 40], &options(6)).unwrap();
+    // 9 x 7 leaves: levels 0..=4.
+    assert_eq!(tree.nodes[0].level, 4);
+    let levels: std::collections::BTreeSet<u32> = tree.nodes.iter().map(|n| n.level).collect();
+    assert_eq!(levels.len(), 5);
+    let pairs = assert_crack_free(&tree, &mesh);
+    assert!(pairs > 100, "only {pairs} neighbouring pairs checked");
+
+    for n in &tree.nodes {
+        n.mesh.validate().unwrap();
+        // Children are consecutive and one level down; errors never shrink upwards.
+        for &c in &n.children {
+            let c = &tree.nodes[c as usize];
+            assert_eq!(c.level + 1, n.level);
+            assert!(c.error[0] <= n.error[0] && c.error[1] <= n.error[1]);
+            assert!((0..4).all(|k| if k < 2 {
+                c.cells[k] >= n.cells[k]
+            } else {
+                c.cells[k] <= n.cells[k]
+            }));
+        }
+        // Vertices keep their original texture coordinates where they are original.
+        for (v, &o) in n.original.iter().enumerate() {
+            if o != NONE {
+                assert_eq!(n.mesh.texcoords[v], mesh.texcoords[o as usize]);
+            }
+        }
+    }
+    // Leaves are the original surface, level by level the triangles shrink.
+    let count = |level: u32| -> usize {
+        tree.nodes
+            .iter()
+            .filter(|n| n.level == level)
+            .map(|n| n.mesh.triangle_count())
+            .sum()
+    };
+    assert_eq!(count(0), mesh.triangle_count());
+    assert!(count(1) < count(0) / 2 && count(4) < count(1));
+    assert!(tree.nodes[0].error[1] > 0.0);
+}
+
+#[test]
+fn file_round_trip_and_selection() {
+    let grid = faulted_grid(40, 30);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.lod");
+    let report = build_file(&grid, Some("PORO"), &path, &options(8)).unwrap();
+    assert_eq!(report.layers, 4, "3 tops and the last bottom");
+    let file = LodFile::open(&path).unwrap();
+    assert_eq!(file.layers().len(), 4);
+    assert_eq!(file.nodes().len(), report.nodes);
+    assert_eq!(file.dims(), [40, 30]);
+    assert!(file.has_scalars());
+
+    // Same meshes as building in memory.
+    let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin()).unwrap();
+    let tree = build_layer(&mesh, [40, 30], &options(8)).unwrap();
+    let root = file.layers()[0].root as usize;
+    assert_eq!(file.mesh(root).unwrap(), tree.nodes[0].mesh);
+    assert_eq!(file.nodes()[root].error, tree.nodes[0].error);
+
+    // From far away the roots do; from close up over a corner, leaves there and
+    // coarser nodes further off; every selection covers each layer's cells once.
+    let (lo, hi) = (file.nodes()[root].min, file.nodes()[root].max);
+    let far = ViewPoint {
+        eye: [0.0, 0.0, 1e7],
+        z_scale: 5.0,
+        fov_y_deg: 35.0,
+        height_px: 800,
+    };
+    let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
+    assert_eq!(file.select(&far, 1.0), roots);
+    let near = ViewPoint {
+        eye: [lo[0], lo[1], hi[2] * 5.0 + 3000.0],
+        ..far
+    };
+    // (A budget of a few pixels, so that the small model shows several levels.)
+    let chosen = file.select(&near, 4.0);
+    let levels: Vec<u32> = chosen
+        .iter()
+        .map(|&i| file.nodes()[i as usize].level)
+        .collect();
+    assert!(
+        levels.contains(&0) && levels.iter().any(|&l| l > 0),
+        "{levels:?}"
+    );
+    for (l, layer) in file.layers().iter().enumerate() {
+        let face = if layer.face == 0 {
+            Face::Top
+        } else {
+            Face::Bottom
+        };
+        let surface = layer_surface(&grid, layer.k as usize, face, None, [0.0; 3]).unwrap();
+        let mut cells = vec![0u8; 40 * 30];
+        for &i in &chosen {
+            let n = &file.nodes()[i as usize];
+            if n.layer as usize != l {
+                continue;
+            }
+            for j in n.cells[1]..n.cells[3] {
+                for i in n.cells[0]..n.cells[2] {
+                    cells[(j * 40 + i) as usize] += 1;
+                }
+            }
+        }
+        // At most once everywhere; exactly once where the layer has a face (tiles
+        // without any have no node).
+        assert!(
+            cells.iter().all(|&c| c <= 1),
+            "layer {l}: a cell drawn twice"
+        );
+        for f in &surface.cell_faces {
+            let c = (f.cell[1] * 40 + f.cell[0]) as usize;
+            assert_eq!(
+                cells[c], 1,
+                "layer {l} (grid layer {}): cell {:?} not drawn",
+                layer.k, f.cell
+            );
+        }
+    }
+    let drawn = file.selection_mesh(&chosen).unwrap();
+    drawn.validate().unwrap();
+    assert!(drawn.triangle_count() < report.input_triangles);
+}
+
+#[test]
+fn damaged_files_are_errors() {
+    let grid = faulted_grid(12, 10);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("small.lod");
+    build_file(&grid, None, &path, &options(4)).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    for cut in [0, 7, 40, bytes.len() / 2, bytes.len() - 1] {
+        std::fs::write(&path, &bytes[..cut]).unwrap();
+        assert!(LodFile::open(&path).is_err(), "cut at {cut}");
+    }
+    let mut bad = bytes.clone();
+    bad[0] = b'X';
+    std::fs::write(&path, &bad).unwrap();
+    let err = LodFile::open(&path).err().unwrap();
+    assert!(err.to_string().contains("magic"), "{err}");
+}
+
+#[test]
+fn reek_hierarchy_is_crack_free() {
+    let Some(data) = shared_data("reek_hierarchy_is_crack_free") else {
+        return;
+    };
+    let options_read = ReadOptions {
+        grid_only: true,
+        ..ReadOptions::default()
+    };
+    let grid = strata_grid::open_with(&data.join("reek/REEK.EGRID"), &options_read).unwrap();
+    let d = grid.dims();
+    let mesh = layer_surface(&grid, 0, Face::Top, None, grid.display_origin()).unwrap();
+    let tree = build_layer(&mesh, [d.nx as u32, d.ny as u32], &options(8)).unwrap();
+    assert!(assert_crack_free(&tree, &mesh) > 50);
+}
