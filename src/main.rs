@@ -52,6 +52,16 @@ enum BenchCommand {
         #[arg(long)]
         quick: bool,
     },
+    /// Line coverage of every wireframe technique against the exact coverage of the
+    /// visible edges (16 x 16 samples per pixel): RMS error, missing and extra pixels.
+    Quality {
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Also write every frame and reference as PNG into this folder.
+        #[arg(long)]
+        images: Option<PathBuf>,
+    },
     /// Isoline quality against an analytic reference (16x16 supersampled) and frame
     /// times: texture isolines (adjust on/off) beside marching triangles + lines.
     Isolines {
@@ -71,6 +81,7 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
         Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
         Command::Bench(BenchCommand::Wire { json, quick }) => bench_wire(json, quick),
+        Command::Bench(BenchCommand::Quality { json, images }) => bench_quality(json, images),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -110,6 +121,17 @@ fn bench_isolines(json: bool) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {
         strata::bench::isolines::print_table(&report);
+    }
+    Ok(())
+}
+
+fn bench_quality(json: bool, images: Option<PathBuf>) -> anyhow::Result<()> {
+    use strata::bench::quality;
+    let report = quality::run(images.as_deref())?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        quality::print_table(&report);
     }
     Ok(())
 }

@@ -4,4 +4,5 @@
 pub mod io;
 pub mod isolines;
 pub mod meshes;
+pub mod quality;
 pub mod wire;

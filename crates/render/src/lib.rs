@@ -17,6 +17,8 @@ pub use camera::Camera;
 pub use error::{Error, Result};
 /// The vector crate of the public API (cameras and bounds are `glam` types).
 pub use glam;
+/// The image crate of the public API (frames are `image::RgbaImage`).
+pub use image;
 pub use gpu::Gpu;
 pub use gridlines::GridLines;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};

@@ -132,23 +132,15 @@ fn vs_quad(@builtin(vertex_index) vi: u32) -> QuadOut {
         out.position = CULLED;
         return out;
     }
-    let pa = window(ends.a);
-    let pb = window(ends.b);
-    let along = window_dir(ends.a, ends.b);
-    let across = vec2<f32>(-along.y, along.x);
     out.half = line_half(0.5 * (ends.wa + ends.wb));
-    let reach = out.half.x + 1.0;
     // Quad corners 0 1 2 3 = (a, -), (b, -), (b, +), (a, +); triangles 0 1 2 and 0 2 3.
     var corner_of = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
     let q = corner_of[vi % 6u];
     let at_b = q == 1u || q == 2u;
-    let side = select(-1.0, 1.0, q >= 2u);
-    let end = select(-1.0, 1.0, at_b);
-    let c = select(ends.a, ends.b, at_b);
-    out.position = c + clip_offset(reach * (end * along + side * across), c.w);
+    out.position = quad_corner(ends.a, ends.b, q, out.half.x + 1.0);
     let v = edges[e][select(0u, 1u, at_b)];
     out.scalar = scalars[v];
-    out.ends = vec4<f32>(pa, pb);
+    out.ends = vec4<f32>(window(ends.a), window(ends.b));
     return out;
 }
 

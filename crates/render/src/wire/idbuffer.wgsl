@@ -48,8 +48,9 @@ struct EdgeOut {
     @location(2) @interpolate(flat) ids: vec2<u32>,
 }
 
-// The quad of equation 4: the segment lengthened and widened by the half thickness
-// plus the reach of the intensity's tail, six vertices (two triangles) per edge.
+// The quad of equation 4 (`quad_corner`): the segment lengthened and widened by the
+// half thickness plus the reach of the intensity's tail, six vertices (two triangles)
+// per edge.
 @vertex
 fn vs_edge(@builtin(vertex_index) vi: u32) -> EdgeOut {
     let e = vi / 6u;
@@ -80,22 +81,12 @@ fn vs_edge(@builtin(vertex_index) vi: u32) -> EdgeOut {
     } else if fb > 0.0 {
         b = mix(b, a, fb / (fb - fa));
     }
-    let pa = window(a);
-    let pb = window(b);
-    let d = pb - pa;
-    let len = length(d);
-    let along = select(vec2<f32>(1.0, 0.0), d / len, len > 1.0e-6);
-    let across = vec2<f32>(-along.y, along.x);
     out.half = line_half(0.5 * (wa + wb));
     // exp2(-2 x^2) is below 1/255 beyond 1.8 pixels past the core (Bærentzen's d_max).
     let reach = out.half.x - HALF_POINT + 1.8;
     var corner_of = array<u32, 6>(0u, 1u, 2u, 0u, 2u, 3u);
-    let q = corner_of[vi % 6u];
-    let at_b = q == 1u || q == 2u;
-    let c = select(a, b, at_b);
-    let offset = reach * (select(-1.0, 1.0, at_b) * along + select(-1.0, 1.0, q >= 2u) * across);
-    out.position = c + clip_offset(offset, c.w);
-    out.ends = vec4<f32>(pa, pb);
+    out.position = quad_corner(a, b, corner_of[vi % 6u], reach);
+    out.ends = vec4<f32>(window(a), window(b));
     out.ids = edges[2u * e + 1u].xy;
     return out;
 }

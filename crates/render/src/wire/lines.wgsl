@@ -25,6 +25,29 @@ fn clip_offset(px: vec2<f32>, w: f32) -> vec4<f32> {
     return vec4<f32>(2.0 * px.x * frame.viewport.z * w, -2.0 * px.y * frame.viewport.w * w, 0.0, 0.0);
 }
 
+// Corner q (0 1 2 3 = (a, -), (b, -), (b, +), (a, +)) of the screen-aligned quad around
+// segment a b (clip positions in front of the near plane): the segment lengthened and
+// widened by `reach` pixels (Bærentzen et al.'s equation 4). The corners' depths are
+// extrapolated along the segment, where window depth is affine, so that the quad's
+// depth along the segment is the edge's own; moving the ends in x and y alone would
+// stretch the edge's depth over the longer quad and sink its near half into the surface.
+fn quad_corner(a: vec4<f32>, b: vec4<f32>, q: u32, reach: f32) -> vec4<f32> {
+    let pa = window(a);
+    let pb = window(b);
+    let d = pb - pa;
+    let len = length(d);
+    let along = select(vec2<f32>(1.0, 0.0), d / len, len > 1.0e-6);
+    let across = vec2<f32>(-along.y, along.x);
+    let at_b = q == 1u || q == 2u;
+    let end = select(-1.0, 1.0, at_b);
+    let c = select(a, b, at_b);
+    let za = a.z / a.w;
+    let zb = b.z / b.w;
+    let z = select(za, zb, at_b) + end * (zb - za) * reach / max(len, 1.0e-6);
+    let offset = clip_offset(reach * (end * along + select(-1.0, 1.0, q >= 2u) * across), c.w);
+    return vec4<f32>(c.xy + offset.xy, select(z, c.z / c.w, len <= 1.0e-6) * c.w, c.w);
+}
+
 // Facing of the triangle a b c, from its clip positions: the sign is the winding on
 // screen, valid even when a vertex is behind the eye (homogeneous orientation).
 fn facing(a: vec4<f32>, b: vec4<f32>, c: vec4<f32>) -> f32 {

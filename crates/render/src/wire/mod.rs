@@ -7,6 +7,7 @@ mod distance;
 mod idbuffer;
 pub mod labels;
 mod lines;
+pub mod reference;
 mod texture;
 mod wire_texture;
 
