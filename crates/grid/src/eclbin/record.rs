@@ -199,10 +199,10 @@ impl EclFile {
             // Mapping an empty file is an error on some systems; nothing to map anyway.
             None
         } else {
-            // SAFETY: the map is read-only and private. Another process truncating or
-            // rewriting the file while it is mapped would change what we read (or
-            // fault); that is the accepted contract of memory-mapped reading, taken
-            // here because copying a multi-gigabyte grid first would halve the speed
+            // SAFETY: the map is read-only and only ever read as bytes. Another process
+            // truncating or rewriting the file while it is mapped would change what we
+            // read (or fault); that is the accepted contract of memory-mapped reading,
+            // taken here because copying a multi-gigabyte grid first would cost time
             // and double the memory.
             Some(
                 unsafe { MmapOptions::new().populate().map(&file) }
