@@ -17,7 +17,9 @@ fn simpleb8_like() -> &'static CornerPointGrid {
     GRID.get_or_init(|| {
         let dims = Dims::new(4, 2, 3).expect("valid dims");
         let coord = (0..3)
-            .flat_map(|j| (0..5).flat_map(move |i| [i as f64, j as f64, 0.0, i as f64, j as f64, 3.0]))
+            .flat_map(|j| {
+                (0..5).flat_map(move |i| [i as f64, j as f64, 0.0, i as f64, j as f64, 3.0])
+            })
             .collect();
         let zcorn = (0..6)
             .flat_map(|z| std::iter::repeat_n(((z + 1) / 2) as f32, 32))
@@ -31,7 +33,12 @@ fuzz_target!(|data: &[u8]| {
     let path = Path::new("fuzz.EGRID");
     let _ = eclbin::parse_records(path, data);
     for view in eclbin::Records::new(path, data).flatten() {
-        let _ = (view.to_f32(), view.to_f64(), view.to_i32(), view.to_strings());
+        let _ = (
+            view.to_f32(),
+            view.to_f64(),
+            view.to_i32(),
+            view.to_strings(),
+        );
     }
     if let Ok(grid) = eclbin::parse_egrid_bytes(path, data, &ReadOptions::default()) {
         assert!(grid.active_count() <= grid.cell_count());
