@@ -1,9 +1,9 @@
 //! GRDECL text decks (and `.DATA` decks): reader and writer.
 //!
 //! The reader memory-maps the deck and each INCLUDE file and works on their bytes
-//! (decks are often not UTF-8). The keyword level ([`deck`]) is sequential; the bulk
-//! data of COORD, ZCORN, ACTNUM and properties ([`numbers`]) is parsed in parallel
-//! pieces cut at newlines. What it understands:
+//! (decks are often not UTF-8). The keyword level (`grdecl/deck.rs`) is sequential;
+//! the bulk data of COORD, ZCORN, ACTNUM and properties (`grdecl/numbers.rs`) is
+//! parsed in parallel pieces cut at newlines. What it understands:
 //!
 //! * SPECGRID / DIMENS, COORD, ZCORN, ACTNUM, MAPAXES, GRIDUNIT (and METRIC, FIELD,
 //!   LAB in RUNSPEC); MAPUNITS, GDORIENT, COORDSYS, ECHO/NOECHO and other keywords are
@@ -16,11 +16,12 @@
 //! * `.DATA` decks: GRID and PROPS are read, DIMENS and the unit system from RUNSPEC,
 //!   the other sections skimmed;
 //! * block-centred DX/DY/DZ/TOPS (or DXV/DYV/DZV), converted to corner-point
-//!   ([`block`]), with BOX/ENDBOX and EQUALS/MULTIPLY/ADD/COPY over boxes ([`cells`]).
+//!   (`grdecl/block.rs`), with BOX/ENDBOX and EQUALS/MULTIPLY/ADD/COPY over boxes
+//!   (`grdecl/cells.rs`).
 //!
-//! Errors are [`Error::Text`](crate::Error::Text) naming the file, keyword and line,
-//! or [`Error::Model`](crate::Error::Model) when something the grid needs is missing.
-//! No count read from a deck sizes an allocation unchecked: see [`deck`]'s budget.
+//! Errors are [`Error::Text`] naming the file, keyword and line, or
+//! [`Error::Model`] when something the grid needs is missing. No count read from a
+//! deck sizes an allocation unchecked: see the budget in `grdecl/deck.rs`.
 
 mod block;
 mod cells;

@@ -6,8 +6,9 @@
 //! `--` comment spans a newline, so every piece parses on its own, in parallel.
 //! Pieces are parsed in waves of a few per thread and appended in order, so the
 //! memory beside the result stays a few megabytes however large the body is.
-//! Floats go through `fast_float2` straight from the bytes; Fortran `D` exponents
-//! take a slow path through a small stack buffer.
+//! Short plain decimals (nearly all bulk data) are converted by [`plain`]; anything
+//! else goes through `fast_float2` straight from the bytes, and Fortran `D`
+//! exponents through a small stack buffer.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

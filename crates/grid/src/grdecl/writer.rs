@@ -5,8 +5,9 @@
 //! at a time, and streamed through one `BufWriter`: a 1000 x 1000 x 100 grid (3.2 GB
 //! of ZCORN) never has more than a few megabytes of text in memory. Runs of three or
 //! more equal values are written `N*v`, undefined (NaN) property values as `N*`.
-//! Floats use Rust's shortest round-trip representation, so `f32` ZCORN and `f64`
-//! COORD read back bit for bit.
+//! Floats are written as short as fixed notation allows while still reading back
+//! bit for bit (`f32` ZCORN and properties, `f64` COORD and MAPAXES), see
+//! [`put_float`]; infinities as `1e39` / `1e309`.
 
 use std::borrow::Cow;
 use std::fs::File;
