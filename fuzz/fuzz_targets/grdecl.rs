@@ -42,7 +42,12 @@ fn round_trip(grid: &CornerPointGrid) {
         grid.properties.keys().collect::<Vec<_>>()
     );
     for (name, a) in &grid.properties {
-        assert!(a.iter().zip(&back.properties[name]).all(|(&x, &y)| same(x, y)), "{name}");
+        assert!(
+            a.iter()
+                .zip(&back.properties[name])
+                .all(|(&x, &y)| same(x, y)),
+            "{name}"
+        );
     }
 }
 
@@ -59,7 +64,11 @@ fuzz_target!(|data: &[u8]| {
             assert_eq!(grid.coord.len(), 6 * (d.nx + 1) * (d.ny + 1));
             assert!(grid.active_count() <= grid.cell_count());
             assert!(grid.zcorn.iter().all(|z| z.is_finite()));
-            assert!(grid.properties.values().all(|p| p.dim() == (d.nz, d.ny, d.nx)));
+            assert!(
+                grid.properties
+                    .values()
+                    .all(|p| p.dim() == (d.nz, d.ny, d.nx))
+            );
             assert!(!grid_only || grid.properties.is_empty());
             if !grid_only && grid.cell_count() <= ROUND_TRIP_CELLS {
                 round_trip(&grid);
