@@ -621,6 +621,10 @@ mod tests {
         coord[4] = f64::NAN;
         let err = CornerPointGrid::from_arrays(dims, coord, vec![0.0; 8], None);
         assert!(err.unwrap_err().to_string().contains("pillar 1"));
+        let mut zcorn = vec![0.0; 8];
+        zcorn[5] = f32::INFINITY;
+        let err = CornerPointGrid::from_arrays(dims, vec![0.0; 24], zcorn, None);
+        assert!(err.unwrap_err().to_string().contains("ZCORN value 6"));
         assert!(Dims::new(usize::MAX / 2, 4, 1).is_err());
     }
 }
