@@ -37,12 +37,27 @@ fn assert_error(text: &str, line: usize, keyword: &str, what: &str) {
     );
 }
 
-/// A fresh scratch folder for tests that need files.
-fn scratch(name: &str) -> PathBuf {
+/// A fresh scratch folder for tests that need files, removed when dropped.
+struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn scratch(name: &str) -> Scratch {
     let dir = std::env::temp_dir().join(format!("strata-grdecl-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    dir
+    Scratch(dir)
 }
 
 /// Pillars of a 2 x 1 grid of unit columns, vertical, x = 0, 1, 2.
