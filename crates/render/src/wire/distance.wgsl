@@ -15,8 +15,14 @@ struct DistOut {
     @location(0) wp: vec3<f32>,
     @location(1) scalar: f32,
     // Standard case: component k is the window distance to the edge opposite corner k
-    // (edge k + 1), interpolated linearly in the window, as the papers require.
-    @location(2) @interpolate(linear) dist: vec3<f32>,
+    // (edge k + 1), which must be interpolated linearly in the window. Declared
+    // `linear` (no perspective correction), llvmpipe and lavapipe interpolate it
+    // wrongly in triangles clipped at the viewport's sides where w varies much (whole
+    // triangles turned to line near the camera); so it is passed as Bærentzen et al.
+    // do where linear interpolation is missing: times the corner's w, perspective
+    // interpolated, and multiplied by the interpolated 1 / w (`position.w`) in the
+    // fragment, which clipping preserves.
+    @location(2) dist_w: vec3<f32>,
     // Gateau's case: 0 in the standard case; else bit 0 set, bits 1, 2, 3 for the
     // lines (a, dir a), (b, dir b) and a-b to measure in the fragment.
     @location(3) @interpolate(flat) lines: u32,
@@ -85,10 +91,11 @@ fn vs_dist(@builtin(vertex_index) vi: u32) -> DistOut {
     }
     let mask = drawn_edges(rec, c);
     var out: DistOut;
+    out.dist_w = vec3<f32>(0.0);
     out.position = c[k];
     out.wp = pulled_world(v[k]);
     out.scalar = scalars[v[k]];
-    out.dist = vec3<f32>(0.0);
+    var dist = vec3<f32>(0.0);
     out.lines = 0u;
     out.line_a = vec4<f32>(0.0);
     out.line_b = vec4<f32>(0.0);
@@ -101,12 +108,13 @@ fn vs_dist(@builtin(vertex_index) vi: u32) -> DistOut {
         let h = abs(a.x * b.y - a.y * b.x) / max(length(b - a), 1.0e-12);
         for (var j = 0u; j < 3u; j++) {
             if ((mask >> ((j + 1u) % 3u)) & 1u) == 0u {
-                out.dist[j] = FAR;
+                dist[j] = FAR;
             }
         }
         if ((mask >> ((k + 1u) % 3u)) & 1u) != 0u {
-            out.dist[k] = h;
+            dist[k] = h;
         }
+        out.dist_w = dist * c[k].w;
         return out;
     }
     // Gateau's tricky case: corners behind the near plane have no window position, but
@@ -160,7 +168,8 @@ fn line_distance(f: vec2<f32>, p: vec2<f32>, dir: vec2<f32>) -> f32 {
 // direction in the window (for dashes; zero in the standard case).
 fn nearest_edge(in: DistOut) -> vec3<f32> {
     if in.lines == 0u {
-        return vec3<f32>(min(in.dist.x, min(in.dist.y, in.dist.z)), 0.0, 0.0);
+        let dist = in.dist_w * in.position.w;
+        return vec3<f32>(min(dist.x, min(dist.y, dist.z)), 0.0, 0.0);
     }
     let f = in.position.xy;
     var best = vec3<f32>(FAR, 1.0, 0.0);
@@ -214,12 +223,13 @@ fn fs_dist(in: DistOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_dist_hidden(in: DistOut) -> @location(0) vec4<f32> {
     // Derivatives first: they need uniform control flow.
-    let gx = dpdx(in.dist);
-    let gy = dpdy(in.dist);
+    let dist = in.dist_w * in.position.w;
+    let gx = dpdx(dist);
+    let gy = dpdy(dist);
     let edge = nearest_edge(in);
     var dir = edge.yz;
     if in.lines == 0u {
-        dir = edge_direction(in.dist, gx, gy);
+        dir = edge_direction(dist, gx, gy);
     }
     let hw = line_half(in.wp);
     return line_color(in.scalar, falloff(edge.x, hw.x) * hw.y * dash(in.position.xy, dir));

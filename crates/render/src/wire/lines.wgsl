@@ -100,7 +100,10 @@ fn segment_distance(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>) -> f32 {
 // of DASH_PX pixels measured along the line in the window, so they keep their length
 // at any zoom.
 fn dash(p: vec2<f32>, dir: vec2<f32>) -> f32 {
-    return select(0.0, 1.0, fract(dot(p, dir) / (2.0 * DASH_PX)) < 0.5);
+    // One orientation per line: the two triangles along an edge may see it either way,
+    // and opposite phases would fill each other's gaps.
+    let d = select(dir, -dir, dir.x < 0.0 || (dir.x == 0.0 && dir.y < 0.0));
+    return select(0.0, 1.0, fract(dot(p, d) / (2.0 * DASH_PX)) < 0.5);
 }
 
 // Colour of line coverage `cov` drawn over what is already in the frame: the wire
