@@ -429,15 +429,19 @@ mod tests {
                 .count();
             assert!(shared >= 1, "fault segment {seg:?} is not a mesh edge");
         }
-        // Picks keep their elevation; constraint vertices are interpolated.
-        let p = input.points[0];
-        let z = t
-            .mesh
-            .positions
-            .iter()
-            .find(|q| (f64::from(q[0]) + o[0] - p[0]).abs() < 1e-2)
-            .map(|q| f64::from(q[2]));
-        assert!(z.is_some());
+        // Picks inside the outline keep their elevation.
+        let mut checked = 0;
+        for p in input.points.iter().filter(|p| inside(outline, p[0], p[1])) {
+            let vertex = t.mesh.positions.iter().find(|q| {
+                (f64::from(q[0]) + o[0] - p[0]).abs() < 1e-2
+                    && (f64::from(q[1]) + o[1] - p[1]).abs() < 1e-2
+            });
+            if let Some(q) = vertex {
+                assert!((f64::from(q[2]) - p[2]).abs() < 1e-3, "{q:?} vs {p:?}");
+                checked += 1;
+            }
+        }
+        assert!(checked > 300, "only {checked} picks found in the mesh");
     }
 
     #[test]
