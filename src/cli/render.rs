@@ -42,9 +42,14 @@ pub struct RenderArgs {
     /// Also draw the side faces: the outer shell and fault walls.
     #[arg(long)]
     sides: bool,
-    /// Wireframe technique: none, global, quad, tex, texgs.
+    /// Wireframe technique: none, global, quad, tex, texgs, bias, dist, idbuffer.
     #[arg(long, default_value = "global", value_parser = parse_wire)]
     wire: WireMode,
+    /// Hidden-line style (Rossignac & van Emmerik): tehs hides hidden edges, tehd dashes
+    /// them, cehs and cehd draw contour edges only (outlines and silhouettes). bias,
+    /// dist and idbuffer draw all four; the texture techniques tehs only.
+    #[arg(long, default_value = "tehs", value_parser = parse_hidden)]
+    hidden: strata::render::HiddenLines,
     /// Line thickness in pixels.
     #[arg(long, default_value_t = 1.5)]
     thickness: f32,
@@ -174,6 +179,11 @@ fn parse_wire(s: &str) -> Result<WireMode, String> {
             strata::render::wire_mode_names().join(", ")
         )
     })
+}
+
+fn parse_hidden(s: &str) -> Result<strata::render::HiddenLines, String> {
+    strata::render::HiddenLines::from_name(s)
+        .ok_or_else(|| format!("unknown hidden-line style {s:?}; one of tehs, tehd, cehs, cehd"))
 }
 
 fn parse_layers(s: &str) -> Result<(usize, usize), String> {
@@ -308,6 +318,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             CoverageArg::Analytic => Coverage::Analytic,
         },
         isolation: args.isolation,
+        hidden: args.hidden,
         colormap: Colormap::from_name(&args.colormap)
             .ok_or_else(|| anyhow!("unknown colour map {:?}", args.colormap))?,
         scalar_range: range,

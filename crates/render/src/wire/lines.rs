@@ -38,13 +38,23 @@ pub(crate) struct EdgeTable {
 }
 
 impl EdgeTable {
-    /// Builds the table by sorting the triangles' edges by their vertex pair.
+    /// Builds the table by sorting the triangles' edges by their vertex pair. Vertices
+    /// at the same position count as one: meshes that paint cells flat give every
+    /// cell face its own vertices (`SurfaceMesh::with_cell_values`), and the cells'
+    /// common edges must still be found (else every edge would be an outline).
     pub fn new(mesh: &SurfaceMesh) -> Self {
         let masks = mesh.edge_mask();
+        let mut first_at: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.vertex_count());
+        let weld: Vec<u32> = mesh
+            .positions
+            .iter()
+            .enumerate()
+            .map(|(v, p)| *first_at.entry(p.map(f32::to_bits)).or_insert(v as u32))
+            .collect();
         let mut sides: Vec<(u64, u32)> = Vec::with_capacity(3 * mesh.triangles.len());
         for (t, tri) in mesh.triangles.iter().enumerate() {
             for e in 0..3 {
-                let (a, b) = (tri[e], tri[(e + 1) % 3]);
+                let (a, b) = (weld[tri[e] as usize], weld[tri[(e + 1) % 3] as usize]);
                 let key = (u64::from(a.min(b)) << 32) | u64::from(a.max(b));
                 sides.push((key, 3 * t as u32 + e as u32));
             }
@@ -410,6 +420,16 @@ mod tests {
         }
         // Every triangle knows its neighbour across the diagonal.
         assert!(table.across.iter().all(|a| a.iter().any(|&v| v != NONE)));
+    }
+
+    #[test]
+    fn cells_with_their_own_vertices_share_edges_by_position() {
+        let mesh = SurfaceMesh::structured(3, 2, |i, j| [i as f32, j as f32, 0.0]);
+        let flat = mesh.with_cell_values();
+        assert!(flat.vertex_count() > mesh.vertex_count());
+        let table = EdgeTable::new(&flat);
+        assert_eq!(table.edges.len(), 17);
+        assert_eq!(table.edges.iter().filter(|e| e[3] == NONE).count(), 10);
     }
 
     #[test]
