@@ -17,10 +17,10 @@ pub use camera::Camera;
 pub use error::{Error, Result};
 /// The vector crate of the public API (cameras and bounds are `glam` types).
 pub use glam;
-/// The image crate of the public API (frames are `image::RgbaImage`).
-pub use image;
 pub use gpu::Gpu;
 pub use gridlines::GridLines;
+/// The image crate of the public API (frames are `image::RgbaImage`).
+pub use image;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
 pub use renderer::{Renderer, View};
 pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
