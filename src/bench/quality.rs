@@ -46,6 +46,9 @@ pub struct QualityReport {
     pub results: Vec<QualityResult>,
     /// Per technique and width, over all views' pixels together.
     pub summary: Vec<QualityResult>,
+    /// Isolines against their analytic reference, with the marching-triangles
+    /// baseline timed beside the texture method (`strata bench isolines`).
+    pub isolines: super::isolines::Report,
 }
 
 #[derive(Debug, Serialize)]
@@ -267,6 +270,10 @@ fn measuring(sigma: f32, coverage: Coverage) -> Style {
 pub fn run(images: Option<&Path>) -> Result<QualityReport> {
     let mut renderer = Renderer::headless()?;
     eprintln!("bench quality on {}", renderer.gpu.describe());
+    let renderer_name = (
+        renderer.gpu.info.name.clone(),
+        format!("{:?}", renderer.gpu.info.backend).to_lowercase(),
+    );
     if let Some(dir) = images {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
@@ -313,9 +320,12 @@ pub fn run(images: Option<&Path>) -> Result<QualityReport> {
         }
         eprintln!("  {} done", qv.name);
     }
+    drop(renderer);
+    let isolines = super::isolines::run()?;
     Ok(QualityReport {
-        adapter: renderer.gpu.info.name.clone(),
-        backend: format!("{:?}", renderer.gpu.info.backend).to_lowercase(),
+        isolines,
+        adapter: renderer_name.0,
+        backend: renderer_name.1,
         samples_per_pixel: SAMPLES * SAMPLES,
         results,
         summary: totals
@@ -341,6 +351,8 @@ pub fn print_table(report: &QualityReport) {
             r.view, r.technique, r.sigma, r.rms, r.missing, r.extra, r.edge_pixels
         );
     }
+    println!();
+    super::isolines::print_table(&report.isolines);
 }
 
 #[cfg(test)]
