@@ -190,6 +190,7 @@ pub fn simplify(
         home,
         error: error * extent as f32,
         collapses: 0,
+        timings: Default::default(),
     })
 }
 

@@ -26,10 +26,14 @@
 //!   through flat arrays (vertex-to-triangle lists in compressed rows, rebuilt between
 //!   passes), and collapses allocate nothing.
 
+use std::time::Instant;
+
 use strata_grid::SurfaceMesh;
 
 use crate::quadric::{Point, Quadric};
-use crate::reference::{NONE, Reference, SurfacePoint, VertexTriangles, cross2};
+use crate::reference::{
+    NONE, Reference, SurfacePoint, VertexTriangles, closest_on_triangle, cross2,
+};
 use crate::{Error, Result};
 
 /// `source` of a vertex that a collapse placed (not an input vertex).
@@ -55,6 +59,27 @@ pub struct Options {
     pub scalar_weight: f32,
     /// Weight of the boundary planes relative to the triangles' quadrics.
     pub boundary_weight: f32,
+    /// Where new vertices go.
+    pub placement: Placement,
+}
+
+/// Where a collapse puts its new vertex. Either way, its texture coordinates and
+/// scalar are those of the original surface at the point of the original nearest to
+/// it (distances with z scaled by `z_scale`), so the grid lines through it are where
+/// the original draws them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Placement {
+    /// At the quadric's minimum over the texture plane of the collapse, on the
+    /// original surface: every vertex keeps exactly the original's position, texture
+    /// coordinates and scalar there.
+    #[default]
+    Surface,
+    /// At the quadric's minimum over the texture plane and the normal off it: the
+    /// vertex may leave the original surface (by about the collapse's error), which
+    /// lets a coarse surface pass through the original rather than lie on one side of
+    /// it where it curves; its texture coordinates are those of the nearest point of
+    /// the original.
+    Optimal,
 }
 
 impl Default for Options {
@@ -66,6 +91,7 @@ impl Default for Options {
             texcoord_weight: 1.0,
             scalar_weight: 1.0,
             boundary_weight: 4.0,
+            placement: Placement::default(),
         }
     }
 }
@@ -123,15 +149,37 @@ pub struct Decimated {
     /// coordinates and scalar in length units), in display length units.
     pub error: f32,
     pub collapses: usize,
+    /// Where the time went, for profiling.
+    pub timings: Timings,
+}
+
+/// Seconds spent in each stage of a decimation, and the number of passes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Timings {
+    /// Preparing the reference surface (triangle adjacency).
+    pub reference: f64,
+    /// Quadrics, boundary and vertex lists.
+    pub setup: f64,
+    /// Evaluating every edge, each pass.
+    pub evaluate: f64,
+    /// Choosing and making the collapses (sorting included), each pass.
+    pub collapse: f64,
+    pub passes: usize,
 }
 
 /// Simplifies `mesh` on itself as the reference surface, with no locked vertex.
 pub fn decimate(mesh: &SurfaceMesh, options: &Options) -> Result<Decimated> {
+    let start = Instant::now();
     let reference = Reference::new(mesh)?;
     let home = reference.vertex_triangle.clone();
     let adjacency = reference.adjacency.as_slice();
-    let c = Collapser::new(mesh, &home, &reference, &[], options, Some(adjacency))?;
-    c.run()
+    let prepared = start.elapsed().as_secs_f64();
+    let collapser = Collapser::new(mesh, &home, &reference, &[], options, Some(adjacency))?;
+    let setup = start.elapsed().as_secs_f64() - prepared;
+    let mut out = collapser.run()?;
+    out.timings.reference = prepared;
+    out.timings.setup = setup;
+    Ok(out)
 }
 
 /// Simplifies `mesh`, whose vertex `v` lies on triangle `home[v]` of `reference`,
@@ -145,7 +193,12 @@ pub fn decimate_on(
     locked: &[bool],
     options: &Options,
 ) -> Result<Decimated> {
-    Collapser::new(mesh, home, reference, locked, options, None)?.run()
+    let start = Instant::now();
+    let collapser = Collapser::new(mesh, home, reference, locked, options, None)?;
+    let setup = start.elapsed().as_secs_f64();
+    let mut out = collapser.run()?;
+    out.timings.setup = setup;
+    Ok(out)
 }
 
 /// Per-vertex flags.
@@ -182,13 +235,14 @@ enum Choice {
     KeepA,
     /// Onto `b` (a goes).
     KeepB,
-    /// At this texture coordinate, on the reference surface.
-    Uv([f64; 2]),
+    /// At texture coordinate `uv` of the reference surface, moved `lift` along the
+    /// surface normal there (in the joint frame, z scaled).
+    Point { uv: [f64; 2], lift: f64 },
 }
 
 /// A resolved placement: the joint-space point and the output attributes.
 #[derive(Clone, Copy)]
-struct Placement {
+struct Spot {
     x: Point,
     position: [f32; 3],
     texcoord: [f32; 2],
@@ -321,12 +375,17 @@ struct Collapser<'a> {
     tie: f64,
     max_cost: f64,
     collapses: usize,
-    // Scratch, reused by every collapse.
-    ring_a: Vec<u32>,
-    ring_b: Vec<u32>,
+    /// Per vertex, the stamp of the last link check that marked it.
+    mark: Vec<u32>,
+    stamp: u32,
+    timings: Timings,
 }
 
 fn sub3(a: &Point, b: &Point) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn sub3p(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
@@ -505,8 +564,9 @@ impl<'a> Collapser<'a> {
             tie: 1e-12 * mean_edge2,
             max_cost: 0.0,
             collapses: 0,
-            ring_a: Vec::with_capacity(32),
-            ring_b: Vec::with_capacity(32),
+            mark: vec![0; n],
+            stamp: 0,
+            timings: Timings::default(),
         })
     }
 
@@ -625,22 +685,49 @@ impl<'a> Collapser<'a> {
             // The plane holds the edge (its triangle interpolates both ends exactly), so
             // its minimum is never worse than the edge's: the edge's is the fallback
             // for when the plane's is too far away to trust.
-            let on_plane = q
-                .minimize_on_plane(xa, &axa, &j, &aj)
-                .and_then(|(d, value)| {
-                    let uv = [ua[0] + d[0], ua[1] + d[1]];
-                    let off = [uv[0] - mid[0], uv[1] - mid[1]];
-                    (off[0] * off[0] + off[1] * off[1] <= 0.25 * len2).then_some((uv, value))
-                });
-            if let Some((uv, value)) = on_plane {
-                consider(q.normalize(value), Choice::Uv(uv));
-            } else {
+            let inside = |d: [f64; 2]| {
+                let uv = [ua[0] + d[0], ua[1] + d[1]];
+                let off = [uv[0] - mid[0], uv[1] - mid[1]];
+                (off[0] * off[0] + off[1] * off[1] <= 0.25 * len2).then_some(uv)
+            };
+            let mut placed = false;
+            if self.options.placement == Placement::Optimal {
+                // Off the surface along its normal too: the third direction.
+                let [t0, t1, t2] = self.tris[first as usize].map(|v| self.x[v as usize]);
+                let n = cross3(sub3(&t1, &t0), sub3(&t2, &t0));
+                let len = dot3(n, n).sqrt();
+                if len > 0.0 {
+                    let normal: Point = [n[0] / len, n[1] / len, n[2] / len, 0.0, 0.0, 0.0];
+                    let cols = [j[0], j[1], normal];
+                    let acols = [aj[0], aj[1], q.apply(&normal)];
+                    if let Some((d, value)) = q.minimize_in_space(xa, &axa, &cols, &acols)
+                        && let Some(uv) = inside([d[0], d[1]])
+                        // No further off than the edge is long: beyond, the linear model
+                        // of the surface means nothing.
+                        && d[2] * d[2] <= dot3(sub3(xb, xa), sub3(xb, xa))
+                    {
+                        consider(q.normalize(value), Choice::Point { uv, lift: d[2] });
+                        placed = true;
+                    }
+                }
+            }
+            // The plane holds the edge (its triangle interpolates both ends exactly), so
+            // its minimum is never worse than the edge's: the edge's is the fallback
+            // for when the plane's is too far away to trust.
+            if !placed
+                && let Some((d, value)) = q.minimize_on_plane(xa, &axa, &j, &aj)
+                && let Some(uv) = inside(d)
+            {
+                consider(q.normalize(value), Choice::Point { uv, lift: 0.0 });
+                placed = true;
+            }
+            if !placed {
                 let e: Point = std::array::from_fn(|k| xb[k] - xa[k]);
                 let ae: Point = std::array::from_fn(|k| axb[k] - axa[k]);
                 let (t, value) = q.minimize_on_segment(xa, &axa, &e, &ae);
                 if t > 0.0 && t < 1.0 {
                     let uv = [ua[0] + t * edge[0], ua[1] + t * edge[1]];
-                    consider(q.normalize(value), Choice::Uv(uv));
+                    consider(q.normalize(value), Choice::Point { uv, lift: 0.0 });
                 }
             }
         }
@@ -649,8 +736,8 @@ impl<'a> Collapser<'a> {
 
     /// The placement of `choice` for edge `a b`; `None` when its texture coordinate is
     /// not on the reference surface next to the edge.
-    fn place(&self, a: u32, b: u32, choice: Choice) -> Option<Placement> {
-        let vertex = |v: u32| Placement {
+    fn place(&self, a: u32, b: u32, choice: Choice) -> Option<Spot> {
+        let vertex = |v: u32| Spot {
             x: self.x[v as usize],
             position: self.position[v as usize],
             texcoord: self.texcoord[v as usize],
@@ -660,14 +747,74 @@ impl<'a> Collapser<'a> {
         match choice {
             Choice::KeepA => Some(vertex(a)),
             Choice::KeepB => Some(vertex(b)),
-            Choice::Uv(uv) => {
+            Choice::Point { uv, lift } => {
                 let found: SurfacePoint = [self.home[a as usize], self.home[b as usize]]
                     .into_iter()
                     .filter(|&h| h != NONE)
                     .find_map(|h| self.reference.locate(h, uv))?;
-                let (p, _, s) = self.reference.evaluate(&found);
-                let position = p.map(|c| c as f32);
-                let texcoord = [uv[0] as f32, uv[1] as f32];
+                let mesh = self.reference.mesh();
+                // Joint-frame positions (z scaled) of a reference triangle's corners.
+                let corners = |t: u32| {
+                    mesh.triangles[t as usize].map(|v| {
+                        let x = Frame::of_mesh(mesh, v as usize, &self.frame);
+                        [x[0], x[1], x[2]]
+                    })
+                };
+                let mut point = found;
+                let (position, texcoord, s) = if lift == 0.0 {
+                    let (p, t, s) = self.reference.evaluate(&found);
+                    (p.map(|c| c as f32), [t[0] as f32, t[1] as f32], s)
+                } else {
+                    let c = corners(found.triangle);
+                    let mut target: [f64; 3] = std::array::from_fn(|k| {
+                        (0..3).map(|i| found.barycentric[i] * c[i][k]).sum()
+                    });
+                    let n = cross3(sub3p(c[1], c[0]), sub3p(c[2], c[0]));
+                    let len = dot3(n, n).sqrt();
+                    if len == 0.0 {
+                        return None;
+                    }
+                    target = std::array::from_fn(|k| target[k] + lift * n[k] / len);
+                    // Texture coordinates from the nearest point of the original: the
+                    // triangle under it or one around it (two rings).
+                    let mut best = (f64::INFINITY, found);
+                    let mut near = [NONE; 13];
+                    near[0] = found.triangle;
+                    let mut count = 1;
+                    for ring in 0..2 {
+                        let end = count;
+                        for i in if ring == 0 { 0..1 } else { 1..end } {
+                            for &nb in &self.reference.adjacency[near[i] as usize] {
+                                if nb != NONE && !near[..count].contains(&nb) && count < near.len()
+                                {
+                                    near[count] = nb;
+                                    count += 1;
+                                }
+                            }
+                        }
+                    }
+                    for &t in &near[..count] {
+                        let (d2, w) = closest_on_triangle(target, corners(t));
+                        if d2 < best.0 {
+                            best = (
+                                d2,
+                                SurfacePoint {
+                                    triangle: t,
+                                    barycentric: w,
+                                },
+                            );
+                        }
+                    }
+                    point = best.1;
+                    let (_, tex, s) = self.reference.evaluate(&point);
+                    let centre = self.frame.centre;
+                    let position = [
+                        (target[0] + centre[0]) as f32,
+                        (target[1] + centre[1]) as f32,
+                        (target[2] / self.frame.z_scale + centre[2]) as f32,
+                    ];
+                    (position, [tex[0] as f32, tex[1] as f32], s)
+                };
                 let scalar = if self.has_scalars { s as f32 } else { f32::NAN };
                 // The joint point from the stored (f32) values, so that later quadric
                 // costs see exactly what is drawn.
@@ -676,28 +823,13 @@ impl<'a> Collapser<'a> {
                     texcoord.map(f64::from),
                     f64::from(scalar),
                 );
-                Some(Placement {
+                Some(Spot {
                     x,
                     position,
                     texcoord,
                     scalar,
-                    home: found.triangle,
+                    home: point.triangle,
                 })
-            }
-        }
-    }
-
-    /// Distinct vertices next to `v` through live triangles, except `skip`, into `out`.
-    fn ring(&self, v: u32, skip: u32, out: &mut Vec<u32>) {
-        out.clear();
-        for &t in self.star(v) {
-            if !self.uses(t, v) {
-                continue;
-            }
-            for &w in &self.tris[t as usize] {
-                if w != v && w != skip && !out.contains(&w) {
-                    out.push(w);
-                }
             }
         }
     }
@@ -706,14 +838,32 @@ impl<'a> Collapser<'a> {
     /// triangles with both, keep the surface manifold (the link condition: the two
     /// ends share no neighbour but the triangles' third corners), non-empty, and every
     /// changed triangle unfolded in space and in texture space?
-    fn can_collapse(&mut self, keep: u32, gone: u32, p: &Placement, keep_moves: bool) -> bool {
-        let mut ring_a = std::mem::take(&mut self.ring_a);
-        let mut ring_b = std::mem::take(&mut self.ring_b);
-        self.ring(keep, gone, &mut ring_a);
-        self.ring(gone, keep, &mut ring_b);
-        let shared_vertices = ring_b.iter().filter(|w| ring_a.contains(w)).count();
-        self.ring_a = ring_a;
-        self.ring_b = ring_b;
+    fn can_collapse(&mut self, keep: u32, gone: u32, p: &Spot, keep_moves: bool) -> bool {
+        // Mark the neighbours of `keep`, then count those of `gone` that are marked
+        // (unmarking each, so that it counts once).
+        self.stamp = self.stamp.wrapping_add(1).max(1);
+        let stamp = self.stamp;
+        let star = |v: u32| self.start[v as usize] as usize..self.start[v as usize + 1] as usize;
+        for i in star(keep) {
+            let t = self.refs[i];
+            if self.uses(t, keep) {
+                for w in self.tris[t as usize] {
+                    self.mark[w as usize] = stamp;
+                }
+            }
+        }
+        let mut shared_vertices = 0;
+        for i in star(gone) {
+            let t = self.refs[i];
+            if self.uses(t, gone) {
+                for w in self.tris[t as usize] {
+                    if w != keep && w != gone && self.mark[w as usize] == stamp {
+                        self.mark[w as usize] = 0;
+                        shared_vertices += 1;
+                    }
+                }
+            }
+        }
         let (shared_tris, _) = self.edge_triangles(keep, gone);
         if shared_vertices != shared_tris {
             return false;
@@ -735,7 +885,7 @@ impl<'a> Collapser<'a> {
 
     /// Does triangle `t` keep the direction of its normal and the sign of its texture
     /// area, with no degeneracy, when its corner `v` moves to `p`?
-    fn keeps_orientation(&self, t: u32, v: u32, p: &Placement) -> bool {
+    fn keeps_orientation(&self, t: u32, v: u32, p: &Spot) -> bool {
         let tri = self.tris[t as usize];
         let old = tri.map(|w| self.x[w as usize]);
         let new = tri.map(|w| if w == v { p.x } else { self.x[w as usize] });
@@ -758,7 +908,7 @@ impl<'a> Collapser<'a> {
     }
 
     /// Moves `gone` onto `keep`, which takes placement `p`.
-    fn collapse(&mut self, keep: u32, gone: u32, p: &Placement, moved: bool) {
+    fn collapse(&mut self, keep: u32, gone: u32, p: &Spot, moved: bool) {
         let (gs, ge) = (
             self.start[gone as usize] as usize,
             self.start[gone as usize + 1] as usize,
@@ -861,17 +1011,23 @@ impl<'a> Collapser<'a> {
         self.candidates = candidates;
     }
 
-    /// One pass; the number of collapses it made.
-    fn pass(&mut self, target: usize, max_cost: f64) -> usize {
+    /// One pass; the number of collapses it made. `relax` drops the pass's own bound
+    /// (keeping `max_cost`), for when a bounded pass could make no collapse: every
+    /// candidate under the bound failed its checks, yet costlier ones may not.
+    fn pass(&mut self, target: usize, max_cost: f64, relax: bool) -> usize {
+        let start = Instant::now();
         self.rebuild_lists();
         self.busy.iter_mut().for_each(|b| *b = false);
         self.gather();
+        let gathered = Instant::now();
+        self.timings.evaluate += (gathered - start).as_secs_f64();
+        self.timings.passes += 1;
         // Each collapse removes about two triangles: the cost of the goal-th cheapest
         // candidate sets the pass's bound. Only candidates under it are sorted (and
         // they are sorted themselves, so the loop below reads them in order).
         let goal = (self.live - target).div_ceil(2);
         let mut bound = max_cost;
-        if goal < self.candidates.len() {
+        if goal < self.candidates.len() && !relax {
             let mut costs = std::mem::take(&mut self.order);
             costs.clear();
             costs.extend(self.candidates.iter().map(|c| c.cost.to_bits()));
@@ -894,6 +1050,7 @@ impl<'a> Collapser<'a> {
             }
             self.try_collapse(c.a, c.b, c.choice, bound);
         }
+        self.timings.collapse += gathered.elapsed().as_secs_f64();
         self.collapses - before
     }
 
@@ -902,7 +1059,7 @@ impl<'a> Collapser<'a> {
     /// stays within `bound`.
     fn try_collapse(&mut self, a: u32, b: u32, choice: Choice, bound: f64) {
         let q = self.q[a as usize].sum(&self.q[b as usize]);
-        if let Choice::Uv(_) = choice {
+        if let Choice::Point { .. } = choice {
             if let Some(p) = self.place(a, b, choice) {
                 let exact = q.error(&p.x);
                 if exact > bound {
@@ -938,10 +1095,16 @@ impl<'a> Collapser<'a> {
     fn run(mut self) -> Result<Decimated> {
         let target = self.options.target_triangles;
         let max_cost = f64::from(self.options.max_error).powi(2);
+        let mut relax = false;
         for _ in 0..MAX_PASSES {
-            if self.live <= target || self.pass(target, max_cost) == 0 {
+            if self.live <= target {
                 break;
             }
+            let made = self.pass(target, max_cost, relax);
+            if made == 0 && relax {
+                break;
+            }
+            relax = made == 0;
         }
         Ok(self.finish())
     }
@@ -984,6 +1147,7 @@ impl<'a> Collapser<'a> {
             home,
             error: self.max_cost.sqrt() as f32,
             collapses: self.collapses,
+            timings: self.timings,
         }
     }
 }

@@ -22,7 +22,7 @@ pub mod measure;
 mod quadric;
 mod reference;
 
-pub use decimate::{Decimated, NEW, Options, decimate, decimate_on};
+pub use decimate::{Decimated, NEW, Options, Placement, Timings, decimate, decimate_on};
 pub use error::{Error, Result};
 pub use file::{
     BuildReport, Indices, LayerRecord, LodFile, NodeRecord, Vertex, ViewPoint, build_file,

@@ -186,6 +186,51 @@ impl Quadric {
         Some((d, value))
     }
 
+    /// Minimum over the 3-space `x0 + C d` (`C`: three columns of R⁶), as `d` and the
+    /// quadric's value there, given `A x0` and `A C`; `None` when not well conditioned.
+    pub fn minimize_in_space(
+        &self,
+        x0: &Point,
+        ax0: &Point,
+        c: &[Point; 3],
+        ac: &[Point; 3],
+    ) -> Option<([f64; 3], f64)> {
+        let mut h = [[0f64; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                h[i][j] = dot(&c[i], &ac[j]);
+            }
+        }
+        let g: [f64; 3] = std::array::from_fn(|k| dot(&c[k], ax0) + dot(&c[k], &self.b));
+        // Cramer's rule on the symmetric 3 x 3 system H d = -g.
+        let det3 = |m: &[[f64; 3]; 3]| {
+            m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+                - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+        };
+        let det = det3(&h);
+        let trace = h[0][0] + h[1][1] + h[2][2];
+        if !(trace > 0.0 && det > 1e-9 * trace * trace * trace) {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let d: [f64; 3] = std::array::from_fn(|k| {
+            let mut m = h;
+            for (row, gi) in m.iter_mut().zip(&g) {
+                row[k] = -gi;
+            }
+            det3(&m) * inv
+        });
+        let mut value = self.value_with(x0, ax0);
+        for i in 0..3 {
+            value += 2.0 * d[i] * g[i];
+            for j in 0..3 {
+                value += d[i] * d[j] * h[i][j];
+            }
+        }
+        Some((d, value))
+    }
+
     /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
     /// there, given `A x0` and `A e`.
     pub fn minimize_on_segment(

@@ -81,10 +81,11 @@ impl VertexTriangles {
 
 /// Per triangle, the neighbour across each edge (opposite each corner): the one other
 /// triangle that has both its ends, [`NONE`] when none or several do.
+/// Sequential: decimation runs in one thread (callers parallelise across meshes), so
+/// that its speed per core is what it seems.
 pub(crate) fn triangle_adjacency(triangles: &[[u32; 3]], vt: &VertexTriangles) -> Vec<[u32; 3]> {
-    use rayon::prelude::*;
     triangles
-        .par_iter()
+        .iter()
         .enumerate()
         .map(|(t, tri)| {
             std::array::from_fn(|k| {
@@ -217,6 +218,44 @@ impl<'m> Reference<'m> {
         let s = if sw > 0.0 { s / sw } else { f64::NAN };
         (pos, uv, s)
     }
+}
+
+/// Squared distance from `p` to triangle `t` and the barycentric coordinates of the
+/// closest point (Ericson, Real-Time Collision Detection, 5.1.5).
+pub(crate) fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let [a, b, c] = t;
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    let bp = sub(p, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    let cp = sub(p, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    let (va, vb, vc) = (d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2);
+    let w = if d1 <= 0.0 && d2 <= 0.0 {
+        [1.0, 0.0, 0.0]
+    } else if d3 >= 0.0 && d4 <= d3 {
+        [0.0, 1.0, 0.0]
+    } else if d6 >= 0.0 && d5 <= d6 {
+        [0.0, 0.0, 1.0]
+    } else if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        [1.0 - v, v, 0.0]
+    } else if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        [1.0 - w, 0.0, w]
+    } else if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        [0.0, 1.0 - w, w]
+    } else {
+        let denom = 1.0 / (va + vb + vc);
+        let (v, w) = (vb * denom, vc * denom);
+        [1.0 - v - w, v, w]
+    };
+    let q: [f64; 3] = std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]);
+    let d = sub(q, p);
+    (dot(d, d), w)
 }
 
 /// Twice the signed area of the texture-space triangle `a b c`.

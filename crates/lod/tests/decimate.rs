@@ -7,20 +7,27 @@ mod common;
 use common::{faulted_grid, layer, shared_data, topology};
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
 use strata_lod::measure::{UvIndex, components, deviation};
-use strata_lod::{Decimated, NEW, Options, decimate};
+use strata_lod::{Decimated, NEW, Options, Placement, decimate};
 
 /// Position tolerance for "on the original surface": f32 rounding of coordinates of a
 /// few kilometres is about 1e-4 m.
 const ON_SURFACE_M: f64 = 1e-3;
 /// Texture tolerance: a cell is 2 units wide, so this is 1/20000 of a cell.
 const TEXCOORD: f64 = 1e-4;
+/// The vertical exaggeration the tests decimate for (distances below scale z by it).
+const Z_SCALE: f64 = 5.0;
 
-fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
+fn decimate_with(mesh: &SurfaceMesh, fraction: f64, placement: Placement) -> Decimated {
     let options = Options {
-        z_scale: 5.0,
+        z_scale: Z_SCALE as f32,
+        placement,
         ..Options::fraction(mesh, fraction)
     };
     decimate(mesh, &options).expect("decimate")
+}
+
+fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
+    decimate_with(mesh, fraction, Placement::Surface)
 }
 
 /// Closest point of triangle `abc` to `p`, with its barycentric coordinates.
@@ -64,7 +71,13 @@ fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
 }
 
 /// Every check of the module on one decimation; returns the number of new vertices.
+/// New vertices must lie on the original surface with [`Placement::Surface`]; with
+/// [`Placement::Optimal`] they may be off it by up to the reported error.
 fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
+    check_placed(original, out, Placement::Surface)
+}
+
+fn check_placed(original: &SurfaceMesh, out: &Decimated, placement: Placement) -> usize {
     let mesh = &out.mesh;
     mesh.validate().unwrap();
     assert_eq!(out.source.len(), mesh.vertex_count());
@@ -79,25 +92,36 @@ fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
         }
     }
 
-    // New vertices: on the original surface (brute force over all its triangles), with
-    // the texture coordinates and scalar of the original there.
-    let tri = |t: &[u32; 3]| t.map(|v| original.positions[v as usize].map(f64::from));
+    // New vertices: on the original surface, or off it along its normal, with the
+    // texture coordinates and scalar of the original at the nearest point of it (brute
+    // force over all its triangles of the vertex's component; distances with z scaled
+    // as the decimation measured them).
+    let labels = components(original);
+    let scaled = |p: [f32; 3]| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2]) * Z_SCALE];
+    let tri = |t: &[u32; 3]| t.map(|v| scaled(original.positions[v as usize]));
     let mut new = 0;
     for (v, _) in out.source.iter().enumerate().filter(|&(_, &s)| s == NEW) {
         new += 1;
-        let p = mesh.positions[v].map(f64::from);
+        let p = scaled(mesh.positions[v]);
+        let label = labels[out.home[v] as usize];
         let (dist, t, w) = original
             .triangles
             .iter()
-            .map(|t| {
+            .zip(&labels)
+            .filter(|&(_, &l)| l == label)
+            .map(|(t, _)| {
                 let (d, w) = closest_on_triangle(p, tri(t));
                 (d, t, w)
             })
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .unwrap();
+        let allowed = match placement {
+            Placement::Surface => ON_SURFACE_M * Z_SCALE,
+            Placement::Optimal => f64::from(out.error) + ON_SURFACE_M * Z_SCALE,
+        };
         assert!(
-            dist < ON_SURFACE_M,
-            "new vertex {v} is {dist} m off the surface"
+            dist < allowed,
+            "new vertex {v} is {dist} off the surface (allowed {allowed})"
         );
         let uv: [f64; 2] = std::array::from_fn(|a| {
             (0..3)
@@ -124,7 +148,6 @@ fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
     // Nothing folded: every triangle keeps the texture-space orientation of the
     // original (counter-clockwise in layer surfaces) and faces the way the original
     // faces at its centroid.
-    let labels = components(original);
     let index = UvIndex::new(original, labels.clone());
     let mut found = Vec::new();
     for (i, t) in mesh.triangles.iter().enumerate() {
@@ -219,6 +242,17 @@ fn faulted_layer_keeps_its_wireframe_at_ten_percent() {
     // The grid lines moved by little, in the view's exaggerated frame (z x 5): under
     // a cell (50 m) everywhere, and under a quarter of one on average.
     let d = deviation(&original, &out.mesh, &out.home, 4, 5.0);
+    assert!(d.max < 50.0 && d.rms < 12.5, "{d:?}");
+}
+
+#[test]
+fn optimal_placement_keeps_texture_coordinates_of_the_nearest_original_point() {
+    let grid = faulted_grid(40, 30);
+    let original = layer(&grid, 1);
+    let out = decimate_with(&original, 0.1, Placement::Optimal);
+    let new = check_placed(&original, &out, Placement::Optimal);
+    assert!(new > 10, "collapses should place new vertices ({new})");
+    let d = deviation(&original, &out.mesh, &out.home, 4, Z_SCALE);
     assert!(d.max < 50.0 && d.rms < 12.5, "{d:?}");
 }
 
