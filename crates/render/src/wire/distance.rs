@@ -13,6 +13,7 @@
 //! their edges, dashed; CEHS and CEHD keep the contour edges only, found per frame
 //! from the vertex across each edge.
 
+use std::cell::RefCell;
 use std::rc::Rc;
 
 use strata_grid::SurfaceMesh;
@@ -24,41 +25,140 @@ use super::lines::{
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
 use crate::{Gpu, HiddenLines, Result};
 
-/// Which pipeline: contour edges only, and the hidden (dashed) pass.
+/// Which pipeline: contour edges only, the hidden (dashed) pass, and whether the
+/// per-triangle work was done by the compute prepass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct Variant {
     contours: bool,
     hidden: bool,
+    prepass: bool,
+}
+
+/// Per-triangle work in a compute prepass rather than in the vertex shader.
+const PREPASS: bool = true;
+
+/// Layouts of group 1: the pulling vertex shader's, the prepass's, the draw's after it.
+struct Layouts {
+    pull: wgpu::BindGroupLayout,
+    compute: wgpu::BindGroupLayout,
+    draw: wgpu::BindGroupLayout,
+}
+
+/// The prepass pipelines, built on first use (without and with contours).
+struct Prepass {
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    built: RefCell<[Option<wgpu::ComputePipeline>; 2]>,
+}
+
+impl Prepass {
+    fn get(&self, contours: bool) -> wgpu::ComputePipeline {
+        let mut built = self.built.borrow_mut();
+        built[usize::from(contours)]
+            .get_or_insert_with(|| {
+                let constants = [("CONTOURS", f64::from(u8::from(contours)))];
+                self.device
+                    .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some("dist prepass"),
+                        layout: Some(&self.layout),
+                        module: &self.module,
+                        entry_point: Some("cs_dist"),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants: &constants,
+                            ..Default::default()
+                        },
+                        cache: None,
+                    })
+            })
+            .clone()
+    }
+}
+
+fn buffer_entry(
+    binding: u32,
+    read_only: bool,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
 }
 
 pub struct DistTechnique {
     pipelines: Rc<LazyPipelines<Variant>>,
-    layout: wgpu::BindGroupLayout,
+    prepass: Rc<Prepass>,
+    layouts: Rc<Layouts>,
 }
 
 impl DistTechnique {
     pub fn new(ctx: &PipelineContext) -> Self {
         let device = &ctx.gpu.device;
-        let layout = storage_layout(device, "dist", &[0, 1, 2], wgpu::ShaderStages::VERTEX);
+        let layout = |label, entries: &[wgpu::BindGroupLayoutEntry]| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries,
+            })
+        };
+        let (vertex, compute) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::COMPUTE);
+        let layouts = Rc::new(Layouts {
+            pull: storage_layout(device, "dist", &[0, 1, 2], vertex),
+            compute: layout(
+                "dist prepass",
+                &[
+                    buffer_entry(0, true, compute),
+                    buffer_entry(1, true, compute),
+                    buffer_entry(2, true, compute),
+                    buffer_entry(3, false, compute),
+                ],
+            ),
+            draw: storage_layout(device, "dist after prepass", &[0, 1, 2, 4], vertex),
+        });
         let module = shader(device, "dist", include_str!("distance.wgsl"));
-        let pipeline_layout = layout.clone();
+        let prepass = Rc::new(Prepass {
+            device: device.clone(),
+            layout: device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("dist prepass"),
+                bind_group_layouts: &[Some(ctx.frame_layout), Some(&layouts.compute)],
+                immediate_size: 0,
+            }),
+            module: module.clone(),
+            built: RefCell::new([None, None]),
+        });
+        let l = layouts.clone();
         let pipelines = LazyPipelines::new(ctx, move |v: Variant, device, frame_layout| {
-            let layouts = [&pipeline_layout];
+            let group = [if v.prepass { &l.draw } else { &l.pull }];
             let constants = [("CONTOURS", f64::from(u8::from(v.contours)))];
             let fs = if v.hidden {
                 "fs_dist_hidden"
             } else {
                 "fs_dist"
             };
-            let mut spec = PassSpec::new("dist", &module, "vs_dist", fs);
-            spec.extra_layouts = &layouts;
+            let vs = if v.prepass {
+                "vs_dist_prepass"
+            } else {
+                "vs_dist"
+            };
+            let mut spec = PassSpec::new("dist", &module, vs, fs);
+            spec.extra_layouts = &group;
             spec.constants = &constants;
             if v.hidden {
                 spec.depth = Some((wgpu::CompareFunction::Less, false));
             }
             spec.build(device, frame_layout)
         });
-        DistTechnique { pipelines, layout }
+        DistTechnique {
+            pipelines,
+            prepass,
+            layouts,
+        }
     }
 }
 
@@ -73,27 +173,54 @@ impl Technique for DistTechnique {
         let records = triangle_records(mesh, &EdgeTable::new(mesh));
         let mut bytes = vertices.bytes();
         let mut draws = Vec::new();
-        for range in chunks(gpu, records.len(), 32) {
+        // The prepass writes 8 vec4 per triangle: two per corner, two for Gateau's lines.
+        let per_triangle = if PREPASS { 128 } else { 32 };
+        for range in chunks(gpu, records.len(), per_triangle) {
             let triangles = storage(
                 gpu,
                 "dist triangles",
                 bytemuck::cast_slice(&records[range.clone()]),
             )?;
             bytes += triangles.size();
-            let group = bind_buffers(
-                &gpu.device,
-                "dist",
-                &self.layout,
-                &[
-                    (0, &vertices.positions),
-                    (1, &vertices.scalars),
-                    (2, &triangles),
-                ],
-            );
-            draws.push((group, 3 * range.len() as u32));
+            let common = [
+                (0, &vertices.positions),
+                (1, &vertices.scalars),
+                (2, &triangles),
+            ];
+            let chunk = if PREPASS {
+                let corners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("dist corners"),
+                    size: 128 * range.len() as u64,
+                    usage: wgpu::BufferUsages::STORAGE,
+                    mapped_at_creation: false,
+                });
+                let with = |binding| {
+                    let mut entries = common.to_vec();
+                    entries.push((binding, &corners));
+                    entries
+                };
+                Chunk {
+                    draw: bind_buffers(&gpu.device, "dist", &self.layouts.draw, &with(4)),
+                    compute: Some(bind_buffers(
+                        &gpu.device,
+                        "dist prepass",
+                        &self.layouts.compute,
+                        &with(3),
+                    )),
+                    triangles: range.len() as u32,
+                }
+            } else {
+                Chunk {
+                    draw: bind_buffers(&gpu.device, "dist", &self.layouts.pull, &common),
+                    compute: None,
+                    triangles: range.len() as u32,
+                }
+            };
+            draws.push(chunk);
         }
         Ok(Box::new(DistDraw {
             pipelines: self.pipelines.clone(),
+            prepass: self.prepass.clone(),
             draws,
             triangles: mesh.triangles.len(),
             bytes,
@@ -101,10 +228,17 @@ impl Technique for DistTechnique {
     }
 }
 
+/// One chunk of triangles: the draw's bind group, the prepass's when there is one.
+struct Chunk {
+    draw: wgpu::BindGroup,
+    compute: Option<wgpu::BindGroup>,
+    triangles: u32,
+}
+
 struct DistDraw {
     pipelines: Rc<LazyPipelines<Variant>>,
-    /// Per chunk of triangles: its bind group and vertex count.
-    draws: Vec<(wgpu::BindGroup, u32)>,
+    prepass: Rc<Prepass>,
+    draws: Vec<Chunk>,
     triangles: usize,
     bytes: u64,
 }
@@ -112,6 +246,21 @@ struct DistDraw {
 impl Drawable for DistDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let hidden = frame.style.hidden;
+        let contours = hidden.contours_only();
+        if self.draws.iter().any(|c| c.compute.is_some()) {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("dist prepass"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.prepass.get(contours));
+            pass.set_bind_group(0, frame.frame_bind_group, &[]);
+            for chunk in &self.draws {
+                if let Some(group) = &chunk.compute {
+                    pass.set_bind_group(1, group, &[]);
+                    pass.dispatch_workgroups(chunk.triangles.div_ceil(64), 1, 1);
+                }
+            }
+        }
         let mut pass = frame.begin_pass(encoder, "dist");
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         // The visible surface first: the hidden pass tests against its depth.
@@ -120,12 +269,13 @@ impl Drawable for DistDraw {
                 continue;
             }
             pass.set_pipeline(&self.pipelines.get(Variant {
-                contours: hidden.contours_only(),
+                contours,
                 hidden: dashed,
+                prepass: PREPASS,
             }));
-            for (group, count) in &self.draws {
-                pass.set_bind_group(1, group, &[]);
-                pass.draw(0..*count, 0..1);
+            for chunk in &self.draws {
+                pass.set_bind_group(1, &chunk.draw, &[]);
+                pass.draw(0..3 * chunk.triangles, 0..1);
             }
         }
     }

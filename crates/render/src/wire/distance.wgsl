@@ -79,82 +79,169 @@ fn drawn_edges(rec: TriangleRecord, corners: array<vec4<f32>, 3>) -> u32 {
     return mask;
 }
 
+// Gateau's tricky case of a triangle with corners behind the near plane (`front`
+// false): they have no window position, but the visible parts of the edges do, passed
+// as window lines constant over the triangle. `lines`: bit 0 set, then bits 1, 2, 3
+// for the lines (a, dir a), (b, dir b) and a-b that are real edges.
+struct Tricky {
+    lines: u32,
+    a: vec4<f32>,
+    b: vec4<f32>,
+}
+
+fn tricky_lines(corners: array<vec4<f32>, 3>, front: vec3<bool>, mask: u32) -> Tricky {
+    var c = corners;
+    var out = Tricky(1u, vec4<f32>(0.0), vec4<f32>(0.0));
+    let n = u32(front.x) + u32(front.y) + u32(front.z);
+    if n == 1u {
+        // Corner i in front: edges i-j and i-l, both from a = b = corner i.
+        let i = select(select(2u, 1u, front.y), 0u, front.x);
+        let j = (i + 1u) % 3u;
+        let l = (i + 2u) % 3u;
+        out.a = visible_line(c[i], c[j]);
+        out.b = visible_line(c[i], c[l]);
+        if ((mask >> edge_of(i, j)) & 1u) != 0u && any(out.a.zw != vec2<f32>(0.0)) {
+            out.lines |= 2u;
+        }
+        if ((mask >> edge_of(i, l)) & 1u) != 0u && any(out.b.zw != vec2<f32>(0.0)) {
+            out.lines |= 4u;
+        }
+    } else if n == 2u {
+        // Corners i, j in front, l behind: edges i-l and j-l, and i-j whole.
+        let l = select(select(2u, 1u, !front.y), 0u, !front.x);
+        let i = (l + 1u) % 3u;
+        let j = (l + 2u) % 3u;
+        out.a = visible_line(c[i], c[l]);
+        out.b = visible_line(c[j], c[l]);
+        if ((mask >> edge_of(i, l)) & 1u) != 0u && any(out.a.zw != vec2<f32>(0.0)) {
+            out.lines |= 2u;
+        }
+        if ((mask >> edge_of(j, l)) & 1u) != 0u && any(out.b.zw != vec2<f32>(0.0)) {
+            out.lines |= 4u;
+        }
+        if ((mask >> edge_of(i, j)) & 1u) != 0u {
+            out.lines |= 8u;
+        }
+    }
+    return out;
+}
+
+// The standard case: what corner k passes, its height over its opposite edge (edge
+// k + 1) in component k and 0 in the others, FAR in every component whose edge is not
+// drawn.
+fn corner_distances(corners: array<vec4<f32>, 3>, mask: u32, k: u32) -> vec3<f32> {
+    var c = corners;
+    let pk = window(c[k]);
+    let a = window(c[(k + 1u) % 3u]) - pk;
+    let b = window(c[(k + 2u) % 3u]) - pk;
+    let h = abs(a.x * b.y - a.y * b.x) / max(length(b - a), 1.0e-12);
+    var dist = vec3<f32>(0.0);
+    for (var j = 0u; j < 3u; j++) {
+        if ((mask >> ((j + 1u) % 3u)) & 1u) == 0u {
+            dist[j] = FAR;
+        }
+    }
+    if ((mask >> ((k + 1u) % 3u)) & 1u) != 0u {
+        dist[k] = h;
+    }
+    return dist;
+}
+
+// The triangle's corners in clip space.
+fn triangle_clip(rec: TriangleRecord) -> array<vec4<f32>, 3> {
+    return array<vec4<f32>, 3>(
+        clip(pulled_world(rec.corners.x)),
+        clip(pulled_world(rec.corners.y)),
+        clip(pulled_world(rec.corners.z)),
+    );
+}
+
+fn in_front3(corners: array<vec4<f32>, 3>) -> vec3<bool> {
+    return vec3<bool>(in_front(corners[0]), in_front(corners[1]), in_front(corners[2]));
+}
+
+// Vertex pulling: every vertex does the per-triangle work of its triangle for its own
+// corner.
 @vertex
 fn vs_dist(@builtin(vertex_index) vi: u32) -> DistOut {
     let t = vi / 3u;
     let k = vi % 3u;
     let rec = triangles[t];
-    var v = array<u32, 3>(rec.corners.x, rec.corners.y, rec.corners.z);
-    var c: array<vec4<f32>, 3>;
-    for (var i = 0u; i < 3u; i++) {
-        c[i] = clip(pulled_world(v[i]));
-    }
+    var c = triangle_clip(rec);
     let mask = drawn_edges(rec, c);
+    let v = rec.corners[k];
     var out: DistOut;
-    out.dist_w = vec3<f32>(0.0);
     out.position = c[k];
-    out.wp = pulled_world(v[k]);
-    out.scalar = scalars[v[k]];
-    var dist = vec3<f32>(0.0);
+    out.wp = pulled_world(v);
+    out.scalar = scalars[v];
+    out.dist_w = vec3<f32>(0.0);
     out.lines = 0u;
     out.line_a = vec4<f32>(0.0);
     out.line_b = vec4<f32>(0.0);
-    let front = vec3<bool>(in_front(c[0]), in_front(c[1]), in_front(c[2]));
+    let front = in_front3(c);
     if all(front) {
-        // The easy standard case: the height of corner k over its opposite edge.
-        var p = array<vec2<f32>, 3>(window(c[0]), window(c[1]), window(c[2]));
-        let a = p[(k + 1u) % 3u] - p[k];
-        let b = p[(k + 2u) % 3u] - p[k];
-        let h = abs(a.x * b.y - a.y * b.x) / max(length(b - a), 1.0e-12);
-        for (var j = 0u; j < 3u; j++) {
-            if ((mask >> ((j + 1u) % 3u)) & 1u) == 0u {
-                dist[j] = FAR;
-            }
-        }
-        if ((mask >> ((k + 1u) % 3u)) & 1u) != 0u {
-            dist[k] = h;
-        }
-        out.dist_w = dist * c[k].w;
-        return out;
-    }
-    // Gateau's tricky case: corners behind the near plane have no window position, but
-    // the visible parts of the edges do; pass them as lines constant over the triangle.
-    let n = u32(front.x) + u32(front.y) + u32(front.z);
-    if n == 0u {
-        return out;
-    }
-    var lines = 1u;
-    if n == 1u {
-        // Corner i in front: edges i-j and i-k, both from a = b = corner i.
-        let i = select(select(2u, 1u, front.y), 0u, front.x);
-        let j = (i + 1u) % 3u;
-        let l = (i + 2u) % 3u;
-        out.line_a = visible_line(c[i], c[j]);
-        out.line_b = visible_line(c[i], c[l]);
-        if ((mask >> edge_of(i, j)) & 1u) != 0u && any(out.line_a.zw != vec2<f32>(0.0)) {
-            lines |= 2u;
-        }
-        if ((mask >> edge_of(i, l)) & 1u) != 0u && any(out.line_b.zw != vec2<f32>(0.0)) {
-            lines |= 4u;
-        }
+        out.dist_w = corner_distances(c, mask, k) * c[k].w;
     } else {
-        // Corners i, j in front, l behind: edges i-l and j-l, and i-j whole.
-        let l = select(select(2u, 1u, !front.y), 0u, !front.x);
-        let i = (l + 1u) % 3u;
-        let j = (l + 2u) % 3u;
-        out.line_a = visible_line(c[i], c[l]);
-        out.line_b = visible_line(c[j], c[l]);
-        if ((mask >> edge_of(i, l)) & 1u) != 0u && any(out.line_a.zw != vec2<f32>(0.0)) {
-            lines |= 2u;
-        }
-        if ((mask >> edge_of(j, l)) & 1u) != 0u && any(out.line_b.zw != vec2<f32>(0.0)) {
-            lines |= 4u;
-        }
-        if ((mask >> edge_of(i, j)) & 1u) != 0u {
-            lines |= 8u;
-        }
+        let tricky = tricky_lines(c, front, mask);
+        out.lines = tricky.lines;
+        out.line_a = tricky.a;
+        out.line_b = tricky.b;
     }
-    out.lines = lines;
+    return out;
+}
+
+// The compute prepass: one invocation per triangle writes its three corners (clip
+// position; distances times w and, in w, the tricky case's line bits) and, for tricky
+// triangles, their two lines after the 6 n corner records.
+@group(1) @binding(3) var<storage, read_write> corners_out: array<vec4<f32>>;
+@group(1) @binding(4) var<storage, read> corners_in: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn cs_dist(@builtin(global_invocation_id) id: vec3<u32>) {
+    let n = arrayLength(&triangles);
+    let t = id.x;
+    if t >= n {
+        return;
+    }
+    let rec = triangles[t];
+    var c = triangle_clip(rec);
+    let mask = drawn_edges(rec, c);
+    let front = in_front3(c);
+    if all(front) {
+        for (var k = 0u; k < 3u; k++) {
+            corners_out[6u * t + 2u * k] = c[k];
+            corners_out[6u * t + 2u * k + 1u] = vec4<f32>(corner_distances(c, mask, k) * c[k].w, 0.0);
+        }
+        return;
+    }
+    let tricky = tricky_lines(c, front, mask);
+    for (var k = 0u; k < 3u; k++) {
+        corners_out[6u * t + 2u * k] = c[k];
+        corners_out[6u * t + 2u * k + 1u] = vec4<f32>(0.0, 0.0, 0.0, f32(tricky.lines));
+    }
+    corners_out[6u * n + 2u * t] = tricky.a;
+    corners_out[6u * n + 2u * t + 1u] = tricky.b;
+}
+
+// Drawing after the prepass: each vertex reads its corner's record.
+@vertex
+fn vs_dist_prepass(@builtin(vertex_index) vi: u32) -> DistOut {
+    let t = vi / 3u;
+    let n = arrayLength(&triangles);
+    let v = triangles[t].corners[vi % 3u];
+    let d = corners_in[2u * vi + 1u];
+    var out: DistOut;
+    out.position = corners_in[2u * vi];
+    out.wp = pulled_world(v);
+    out.scalar = scalars[v];
+    out.dist_w = d.xyz;
+    out.lines = u32(d.w);
+    out.line_a = vec4<f32>(0.0);
+    out.line_b = vec4<f32>(0.0);
+    if out.lines != 0u {
+        out.line_a = corners_in[6u * n + 2u * t];
+        out.line_b = corners_in[6u * n + 2u * t + 1u];
+    }
     return out;
 }
 
