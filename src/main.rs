@@ -26,6 +26,9 @@ enum Command {
     /// Triangulate scattered picks (or generated ones) into a terrain and render it
     /// with map grid lines to a PNG.
     Terrain(Box<cli::terrain::TerrainArgs>),
+    /// Levels of detail: build a model's hierarchy file, or view one.
+    #[command(subcommand)]
+    Lod(cli::lod::LodCommand),
     /// Benchmarks (on demand; print a table, or JSON with --json).
     #[command(subcommand)]
     Bench(BenchCommand),
@@ -41,6 +44,19 @@ enum BenchCommand {
         /// Folder of real models (default: ../shared/data beside the repository).
         #[arg(long)]
         data: Option<PathBuf>,
+    },
+    /// Decimation: fidelity of the original wireframe on decimated surfaces (geometric
+    /// and in pixels) and speed, ours beside meshoptimizer's simplifiers.
+    Lod {
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Folder of real models (default: ../shared/data beside the repository).
+        #[arg(long)]
+        data: Option<PathBuf>,
+        /// 10 % only, one view, the smallest generated layer.
+        #[arg(long)]
+        quick: bool,
     },
     /// Frame times of every wireframe technique against the shaded surface alone, in
     /// retained and immediate mode (Celes & Abraham's Tables 3 and 2).
@@ -78,7 +94,9 @@ fn main() -> ExitCode {
         Command::Synth(args) => cli::synth::run(&args),
         Command::Render(args) => cli::render::run(&args),
         Command::Terrain(args) => cli::terrain::run(&args),
+        Command::Lod(command) => cli::lod::run(&command),
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
+        Command::Bench(BenchCommand::Lod { json, data, quick }) => bench_lod(json, data, quick),
         Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
         Command::Bench(BenchCommand::Wire { json, quick }) => bench_wire(json, quick),
         Command::Bench(BenchCommand::Quality { json, images }) => bench_quality(json, images),
@@ -90,6 +108,18 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn bench_lod(json: bool, data: Option<PathBuf>, quick: bool) -> anyhow::Result<()> {
+    use strata::bench::lod;
+    let data = data.unwrap_or_else(lod::default_data);
+    let report = lod::run(&data, if quick { &lod::QUICK } else { &lod::FULL })?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        lod::print_table(&report);
+    }
+    Ok(())
 }
 
 fn bench_io(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {

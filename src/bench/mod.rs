@@ -3,6 +3,7 @@
 
 pub mod io;
 pub mod isolines;
+pub mod lod;
 pub mod meshes;
 pub mod quality;
 pub mod wire;

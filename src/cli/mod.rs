@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use strata::grid::CornerPointGrid;
 
 pub mod info;
+pub mod lod;
 pub mod render;
 pub mod synth;
 pub mod terrain;

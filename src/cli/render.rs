@@ -102,6 +102,12 @@ pub struct RenderArgs {
     /// Map grid lines: SPACING[,X0[,Y0]] in map units, through map (X0, Y0).
     #[arg(long, value_parser = parse_grid_lines)]
     grid_lines: Option<(f64, f64, f64)>,
+    /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
+    /// the wireframe on the result: global draws the original grid lines, tex/texgs
+    /// the decimated triangles. Colours are interpolated between nodes (decimated
+    /// triangles are no longer cells).
+    #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent, conflicts_with = "iso")]
+    lod: Option<f64>,
 }
 
 fn parse_iso(s: &str) -> Result<(String, Option<f32>, u32), String> {
@@ -172,7 +178,7 @@ fn nice_spacing(range: f32, lines: f32) -> f32 {
         .unwrap_or(10.0 * step)
 }
 
-fn parse_wire(s: &str) -> Result<WireMode, String> {
+pub(crate) fn parse_wire(s: &str) -> Result<WireMode, String> {
     WireMode::from_name(s).ok_or_else(|| {
         format!(
             "unknown wire mode {s:?}; one of {}",
@@ -252,9 +258,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         layers,
         sides: args.sides,
         property,
-        flat_cells: !args.smooth,
+        flat_cells: !args.smooth && args.lod.is_none(),
     };
     let (mesh, range) = build(&grid, &options)?;
+    let mesh = match args.lod {
+        Some(percent) => super::lod::decimate_scene(&mesh, percent, args.zscale)?,
+        None => mesh,
+    };
     // Isolines need the property interpolated between nodes, whatever colours the
     // cells: one value per triangle corner of `mesh`.
     let iso = match &args.iso {

@@ -1,0 +1,812 @@
+//! `strata bench lod`: how faithfully decimated surfaces still carry the original
+//! wireframe, ours beside meshoptimizer's simplifiers, and how fast each decimates.
+//!
+//! Fidelity, for every real model of the shared data folder (all its layer surfaces,
+//! as `strata render` draws them: the top of every layer and the bottom of the last)
+//! and budgets of 50, 20, 10, 5 and 2 % of the triangles (each layer surface
+//! decimated to that share):
+//! * geometric: points along every original cell edge (4 per edge) against the point
+//!   of the decimated surface with the same texture coordinates, in the display frame
+//!   with the vertical exaggeration of the views (5): largest and RMS distance, also
+//!   as a fraction of the model's extent (its bounding box diagonal in that frame);
+//! * image: the original mesh and each decimated one drawn with the global wireframe
+//!   at 1000 x 800 from two fixed views. Line pixels come from frames of the lines
+//!   alone (isolation, solid colour on black: a pixel is a line pixel where the line
+//!   covers at least half of it); F1 of the decimated frame's line pixels against the
+//!   original's, each pixel matching within one pixel (8-neighbourhood: a line moved
+//!   by under a pixel is where it was), and strictly; RMS colour difference of the
+//!   shaded frames (0-255 per channel, surface coloured by PORO when the model has it).
+//!
+//! Ours runs with both placements of new vertices: `strata` (on the original surface,
+//! the default) and `strata_optimal` (at the quadric optimum off it, with the texture
+//! coordinates of the nearest original point).
+//!
+//! Speed: input triangles per second for ours and each meshopt simplifier at 10 %,
+//! on the real models and on generated faulted layers of about 0.5, 2 and 8 million
+//! triangles, all in one thread (so per core; decimation itself is sequential) and ours
+//! also on all cores across layer surfaces; CPU seconds beside wall seconds, since the
+//! machine may be shared. Our
+//! stages (reference, setup, evaluating, collapsing) are timed for profiling. Peak
+//! memory is the process's VmHWM at the end.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Result;
+use serde::Serialize;
+use strata_grid::synth::{SynthParams, generate};
+use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface};
+use strata_lod::baseline::{Simplifier, simplify};
+use strata_lod::measure::deviation;
+use strata_lod::{Decimated, Options, Placement, decimate};
+use strata_render::glam::Vec3;
+use strata_render::{Camera, Renderer, Style, View, WireMode};
+
+const WIDTH: u32 = 1000;
+const HEIGHT: u32 = 800;
+/// Vertical exaggeration of the views (`strata render`'s default).
+const Z_SCALE: f32 = 5.0;
+/// Points sampled along each original cell edge for the geometric measure.
+const SAMPLES_PER_EDGE: usize = 4;
+
+/// What to run.
+pub struct Config {
+    pub budgets: &'static [f64],
+    /// Views as (azimuth, elevation) in degrees.
+    pub views: &'static [(f32, f32)],
+    /// Triangle counts of the generated layers.
+    pub generated: &'static [usize],
+}
+
+pub const FULL: Config = Config {
+    budgets: &[50.0, 20.0, 10.0, 5.0, 2.0],
+    views: &[(30.0, 35.0), (210.0, 60.0)],
+    generated: &[500_000, 2_000_000, 8_000_000],
+};
+
+/// A few minutes: 10 % only, one view, the smallest generated layer.
+pub const QUICK: Config = Config {
+    budgets: &[10.0],
+    views: &[(30.0, 35.0)],
+    generated: &[500_000],
+};
+
+/// The budget the goals are stated at.
+const GOAL_BUDGET: f64 = 10.0;
+const GOAL_F1: f64 = 0.95;
+const GOAL_RATE: f64 = 1e6;
+
+/// What `--json` prints.
+#[derive(Debug, Serialize)]
+pub struct LodReport {
+    pub adapter: String,
+    pub cores: usize,
+    pub fidelity: Vec<Fidelity>,
+    pub speed: Vec<Speed>,
+    pub goals: Vec<Goal>,
+    /// Peak resident memory of the run (VmHWM), MB.
+    pub peak_memory_mb: f64,
+    pub notes: Vec<String>,
+}
+
+/// One model, simplifier and budget.
+#[derive(Debug, Serialize)]
+pub struct Fidelity {
+    pub model: String,
+    pub simplifier: String,
+    pub budget_percent: f64,
+    pub triangles: usize,
+    pub kept_triangles: usize,
+    /// Largest and RMS distance of the original grid lines (display units).
+    pub line_max: f64,
+    pub line_rms: f64,
+    /// The same over the model's extent.
+    pub line_max_rel: f64,
+    pub line_rms_rel: f64,
+    /// Share of samples whose texture coordinate the decimated surface no longer
+    /// draws (outside its simplified boundary).
+    pub outside: f64,
+    /// Worst view: F1 of line pixels within one pixel, strict F1, and RMS colour.
+    pub f1: f64,
+    pub f1_strict: f64,
+    pub rms_colour: f64,
+    pub views: Vec<ViewScore>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct ViewScore {
+    pub azimuth: f32,
+    pub elevation: f32,
+    pub precision: f64,
+    pub recall: f64,
+    pub f1: f64,
+    pub f1_strict: f64,
+    pub rms_colour: f64,
+}
+
+/// One input and simplifier at 10 %.
+#[derive(Debug, Serialize)]
+pub struct Speed {
+    pub input: String,
+    pub triangles: usize,
+    pub simplifier: String,
+    pub threads: usize,
+    pub seconds: f64,
+    pub cpu_seconds: f64,
+    /// Input triangles per wall second.
+    pub triangles_per_s: f64,
+    /// Input triangles per CPU second: per core.
+    pub triangles_per_cpu_s: f64,
+    /// Our stages, seconds summed over the layer surfaces (ours only).
+    pub stages: Option<Stages>,
+}
+
+#[derive(Debug, Default, Serialize)]
+pub struct Stages {
+    pub reference: f64,
+    pub setup: f64,
+    pub evaluate: f64,
+    pub collapse: f64,
+    pub passes: usize,
+}
+
+#[derive(Debug, Serialize)]
+pub struct Goal {
+    pub goal: String,
+    pub value: f64,
+    pub threshold: f64,
+    pub met: bool,
+}
+
+/// A real model to measure.
+struct Model {
+    label: &'static str,
+    file: &'static str,
+    grid_only: bool,
+}
+
+const MODELS: [Model; 5] = [
+    Model {
+        label: "reek",
+        file: "reek/REEK.EGRID",
+        grid_only: false,
+    },
+    Model {
+        label: "spe9",
+        file: "spe9/BENCH_SPE9.EGRID",
+        grid_only: false,
+    },
+    Model {
+        label: "emerald",
+        file: "emerald/eme_small_w_hole_grid_params.grdecl",
+        grid_only: false,
+    },
+    Model {
+        label: "simpleb8",
+        file: "simpleb8/E100_BO.EGRID",
+        grid_only: false,
+    },
+    Model {
+        label: "spe10model2",
+        file: "spe10model2/SPE10_MODEL2.DATA",
+        grid_only: true,
+    },
+];
+
+/// Who decimates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Method {
+    Ours(Placement),
+    Meshopt(Simplifier),
+}
+
+impl Method {
+    fn all() -> Vec<Method> {
+        [
+            Method::Ours(Placement::Surface),
+            Method::Ours(Placement::Optimal),
+        ]
+        .into_iter()
+        .chain(Simplifier::ALL.into_iter().map(Method::Meshopt))
+        .collect()
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Method::Ours(Placement::Surface) => "strata",
+            Method::Ours(Placement::Optimal) => "strata_optimal",
+            Method::Meshopt(s) => s.name(),
+        }
+    }
+
+    fn run(self, mesh: &SurfaceMesh, fraction: f64) -> Result<Decimated> {
+        let target = (mesh.triangle_count() as f64 * fraction).round() as usize;
+        Ok(match self {
+            Method::Ours(placement) => decimate(
+                mesh,
+                &Options {
+                    target_triangles: target,
+                    z_scale: Z_SCALE,
+                    placement,
+                    ..Options::default()
+                },
+            )?,
+            Method::Meshopt(s) => simplify(mesh, s, target, Z_SCALE)?,
+        })
+    }
+}
+
+/// The layer surfaces of `grid` as `strata render` draws them, with PORO as scalar
+/// when the model has it.
+fn surfaces(grid: &CornerPointGrid) -> Result<Vec<SurfaceMesh>> {
+    let nz = grid.dims().nz;
+    let property = grid.property("PORO").map(|_| "PORO");
+    let origin = grid.display_origin();
+    (0..nz)
+        .map(|k| (k, Face::Top))
+        .chain((nz > 0).then_some((nz - 1, Face::Bottom)))
+        .map(|(k, face)| Ok(layer_surface(grid, k, face, property, origin)?))
+        .collect()
+}
+
+/// `f` over `items` on `threads` threads (each takes the next item when done), results
+/// in the order of `items`.
+fn par_map<T: Sync, R: Send>(items: &[T], threads: usize, f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<R>>> = Mutex::new((0..items.len()).map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..threads.clamp(1, items.len().max(1)) {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(item) = items.get(i) else {
+                        break;
+                    };
+                    let r = f(item);
+                    if let Ok(mut all) = results.lock() {
+                        all[i] = Some(r);
+                    }
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+fn append_all(meshes: &[SurfaceMesh], origin: [f64; 3]) -> SurfaceMesh {
+    let mut all = SurfaceMesh::with_origin(origin);
+    for m in meshes {
+        all.append(m);
+    }
+    all
+}
+
+/// Process CPU seconds (user + system) so far.
+fn cpu_seconds() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return f64::NAN;
+    };
+    // Fields after the command name (which may hold spaces) start past the last ')'.
+    let fields: Vec<&str> = stat
+        .rsplit_once(')')
+        .map_or("", |(_, rest)| rest)
+        .split_whitespace()
+        .collect();
+    let ticks = |i: usize| fields.get(i).and_then(|v| v.parse::<f64>().ok());
+    // utime and stime are fields 14 and 15 of the line, 12 and 13 after the name.
+    match (ticks(11), ticks(12)) {
+        (Some(u), Some(s)) => (u + s) / 100.0,
+        _ => f64::NAN,
+    }
+}
+
+/// Line mask of an isolation frame: pixels the lines cover at least half of.
+fn line_mask(image: &[u8], line_luma: f64) -> Vec<bool> {
+    image
+        .chunks_exact(4)
+        .map(|p| {
+            let luma = 0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2]);
+            luma >= 0.5 * line_luma
+        })
+        .collect()
+}
+
+/// Pixels of `a` within `tol` pixels (Chebyshev) of a pixel of `b`.
+fn matched(a: &[bool], b: &[bool], tol: i64) -> usize {
+    let (w, h) = (i64::from(WIDTH), i64::from(HEIGHT));
+    (0..h)
+        .map(|y| {
+            (0..w)
+                .filter(|&x| {
+                    a[(y * w + x) as usize]
+                        && (-tol..=tol).any(|dy| {
+                            (-tol..=tol).any(|dx| {
+                                let (xx, yy) = (x + dx, y + dy);
+                                xx >= 0 && yy >= 0 && xx < w && yy < h && b[(yy * w + xx) as usize]
+                            })
+                        })
+                })
+                .count()
+        })
+        .sum()
+}
+
+/// Precision, recall and F1 of the line pixels `got` against `want`.
+fn f1(got: &[bool], want: &[bool], tol: i64) -> (f64, f64, f64) {
+    let (ng, nw) = (
+        got.iter().filter(|&&p| p).count(),
+        want.iter().filter(|&&p| p).count(),
+    );
+    if ng == 0 || nw == 0 {
+        return (0.0, 0.0, if ng == nw { 1.0 } else { 0.0 });
+    }
+    let precision = matched(got, want, tol) as f64 / ng as f64;
+    let recall = matched(want, got, tol) as f64 / nw as f64;
+    let f = if precision + recall > 0.0 {
+        2.0 * precision * recall / (precision + recall)
+    } else {
+        0.0
+    };
+    (precision, recall, f)
+}
+
+fn rms_colour(a: &[u8], b: &[u8]) -> f64 {
+    let (sum, n) =
+        a.chunks_exact(4)
+            .zip(b.chunks_exact(4))
+            .fold((0f64, 0usize), |(s, n), (p, q)| {
+                let d: f64 = (0..3)
+                    .map(|c| (f64::from(p[c]) - f64::from(q[c])).powi(2))
+                    .sum();
+                (s + d, n + 3)
+            });
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// The two frames compared per view: lines alone (for the line pixels) and shaded.
+struct Frames {
+    lines: Vec<bool>,
+    shaded: Vec<u8>,
+}
+
+struct Scene {
+    views: Vec<View>,
+    range: Option<(f32, f32)>,
+}
+
+impl Scene {
+    fn new(original: &SurfaceMesh, config: &Config) -> Option<Self> {
+        let (lo, hi) = original.bounds()?;
+        let bounds = (Vec3::from(lo), Vec3::from(hi));
+        let views = config
+            .views
+            .iter()
+            .map(|&(az, el)| View {
+                camera: Camera::fit_points(
+                    original.positions.iter().map(|&p| Vec3::from(p)),
+                    Z_SCALE,
+                    WIDTH as f32 / HEIGHT as f32,
+                    (az, el),
+                    1.0,
+                ),
+                width: WIDTH,
+                height: HEIGHT,
+                bounds,
+            })
+            .collect();
+        let range = original
+            .scalars
+            .iter()
+            .filter(|s| s.is_finite())
+            .fold(None, |r: Option<(f32, f32)>, &s| {
+                Some(r.map_or((s, s), |(a, b)| (a.min(s), b.max(s))))
+            })
+            .map(|(a, b)| (a, if b > a { b } else { a + 1.0 }));
+        Some(Scene { views, range })
+    }
+
+    fn draw(&self, renderer: &mut Renderer, mesh: &SurfaceMesh) -> Result<Vec<Frames>> {
+        let drawable = renderer.prepare(mesh, WireMode::Global)?;
+        let solid = Style::default().solid_color;
+        let line_luma = 255.0
+            * (0.299 * f64::from(solid[0])
+                + 0.587 * f64::from(solid[1])
+                + 0.114 * f64::from(solid[2]));
+        self.views
+            .iter()
+            .map(|view| {
+                let lines = renderer.render(
+                    &[drawable.as_ref()],
+                    view,
+                    &Style {
+                        isolation: true,
+                        background: [0.0, 0.0, 0.0, 1.0],
+                        ..Style::default()
+                    },
+                )?;
+                let shaded = renderer.render(
+                    &[drawable.as_ref()],
+                    view,
+                    &Style {
+                        scalar_range: self.range,
+                        ..Style::default()
+                    },
+                )?;
+                Ok(Frames {
+                    lines: line_mask(lines.as_raw(), line_luma),
+                    shaded: shaded.into_raw(),
+                })
+            })
+            .collect()
+    }
+}
+
+/// Runs the benchmark on the models of `data_dir` (skipped, with a note, when absent).
+pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
+    let mut renderer = Renderer::headless()?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut notes = vec![format!(
+        "load average at start: {}",
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+    )];
+    let mut fidelity = Vec::new();
+    let mut speed = Vec::new();
+
+    let mut models: Vec<(String, Vec<SurfaceMesh>)> = Vec::new();
+    if data_dir.is_dir() {
+        for m in &MODELS {
+            let path = data_dir.join(m.file);
+            let options = ReadOptions {
+                grid_only: m.grid_only,
+                ..ReadOptions::default()
+            };
+            match strata_grid::open_with(&path, &options) {
+                Ok(grid) => models.push((m.label.to_string(), surfaces(&grid)?)),
+                Err(e) => notes.push(format!("{}: not measured: {e}", path.display())),
+            }
+        }
+    } else {
+        notes.push(format!(
+            "{}: no such folder, real models skipped",
+            data_dir.display()
+        ));
+    }
+
+    for (label, layers) in &models {
+        let origin = layers.first().map_or([0.0; 3], |m| m.origin);
+        let original = append_all(layers, origin);
+        let Some(scene) = Scene::new(&original, config) else {
+            notes.push(format!("{label}: no triangle"));
+            continue;
+        };
+        let extent = {
+            let (lo, hi) = original.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+            let d = [hi[0] - lo[0], hi[1] - lo[1], (hi[2] - lo[2]) * Z_SCALE];
+            f64::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+                .sqrt()
+                .max(f64::MIN_POSITIVE)
+        };
+        let reference = scene.draw(&mut renderer, &original)?;
+        eprintln!(
+            "{label}: {} triangles in {} layer surfaces",
+            original.triangle_count(),
+            layers.len()
+        );
+        for method in Method::all() {
+            for &budget in config.budgets {
+                let decimated: Vec<Decimated> =
+                    par_map(layers, cores, |m| method.run(m, budget / 100.0))
+                        .into_iter()
+                        .collect::<Result<_>>()?;
+                let mesh = append_all(
+                    &decimated.iter().map(|d| d.mesh.clone()).collect::<Vec<_>>(),
+                    origin,
+                );
+                let pairs: Vec<(&SurfaceMesh, &Decimated)> =
+                    layers.iter().zip(&decimated).collect();
+                let devs = par_map(&pairs, cores, |(o, d)| {
+                    deviation(o, &d.mesh, &d.home, SAMPLES_PER_EDGE, f64::from(Z_SCALE))
+                });
+                let samples: usize = devs.iter().map(|d| d.samples).sum();
+                let line_max = devs.iter().map(|d| d.max).fold(0.0, f64::max);
+                let line_rms = (devs
+                    .iter()
+                    .map(|d| d.rms * d.rms * d.samples as f64)
+                    .sum::<f64>()
+                    / samples.max(1) as f64)
+                    .sqrt();
+                let outside =
+                    devs.iter().map(|d| d.outside).sum::<usize>() as f64 / samples.max(1) as f64;
+                let frames = if mesh.is_empty() {
+                    None
+                } else {
+                    Some(scene.draw(&mut renderer, &mesh)?)
+                };
+                let views: Vec<ViewScore> = config
+                    .views
+                    .iter()
+                    .enumerate()
+                    .map(|(v, &(azimuth, elevation))| {
+                        let want = &reference[v];
+                        let (precision, recall, f, strict, rms) = match &frames {
+                            Some(f) => {
+                                let (p, r, f1v) = f1(&f[v].lines, &want.lines, 1);
+                                let (_, _, s) = f1(&f[v].lines, &want.lines, 0);
+                                (p, r, f1v, s, rms_colour(&f[v].shaded, &want.shaded))
+                            }
+                            None => (0.0, 0.0, 0.0, 0.0, f64::NAN),
+                        };
+                        ViewScore {
+                            azimuth,
+                            elevation,
+                            precision,
+                            recall,
+                            f1: f,
+                            f1_strict: strict,
+                            rms_colour: rms,
+                        }
+                    })
+                    .collect();
+                let row = Fidelity {
+                    model: label.clone(),
+                    simplifier: method.name().to_string(),
+                    budget_percent: budget,
+                    triangles: original.triangle_count(),
+                    kept_triangles: mesh.triangle_count(),
+                    line_max,
+                    line_rms,
+                    line_max_rel: line_max / extent,
+                    line_rms_rel: line_rms / extent,
+                    outside,
+                    f1: views.iter().map(|v| v.f1).fold(1.0, f64::min),
+                    f1_strict: views.iter().map(|v| v.f1_strict).fold(1.0, f64::min),
+                    rms_colour: views.iter().map(|v| v.rms_colour).fold(0.0, f64::max),
+                    views,
+                };
+                eprintln!(
+                    "  {:<20} {:>5.1} %: {:>8} triangles, lines max {:.2e} rms {:.2e} of the extent, F1 {:.3} (strict {:.3}), RMS colour {:.2}",
+                    row.simplifier,
+                    budget,
+                    row.kept_triangles,
+                    row.line_max_rel,
+                    row.line_rms_rel,
+                    row.f1,
+                    row.f1_strict,
+                    row.rms_colour
+                );
+                fidelity.push(row);
+            }
+        }
+    }
+
+    // Speed: real models (all layer surfaces) and generated layers.
+    let mut inputs: Vec<(String, Vec<SurfaceMesh>)> = models;
+    for &n in config.generated {
+        let side = ((n as f64 / 2.0).sqrt().round() as usize).max(2);
+        let grid = generate(&SynthParams {
+            nx: side,
+            ny: side,
+            nz: 1,
+            faults: 6,
+            seed: 5,
+        })?;
+        let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin())?;
+        inputs.push((format!("generated {side}x{side}"), vec![mesh]));
+    }
+    for (label, layers) in &inputs {
+        let triangles: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
+        let mut runs: Vec<(Method, usize)> = Method::all().into_iter().map(|m| (m, 1)).collect();
+        if layers.len() > 1 && cores > 1 {
+            runs.push((Method::Ours(Placement::Surface), cores));
+        }
+        for (method, threads) in runs {
+            let (wall, cpu) = (Instant::now(), cpu_seconds());
+            let results: Vec<Decimated> =
+                par_map(layers, threads, |m| method.run(m, GOAL_BUDGET / 100.0))
+                    .into_iter()
+                    .collect::<Result<_>>()?;
+            let (seconds, cpu) = (wall.elapsed().as_secs_f64(), cpu_seconds() - cpu);
+            let stages = matches!(method, Method::Ours(_)).then(|| {
+                results.iter().fold(Stages::default(), |s, r| Stages {
+                    reference: s.reference + r.timings.reference,
+                    setup: s.setup + r.timings.setup,
+                    evaluate: s.evaluate + r.timings.evaluate,
+                    collapse: s.collapse + r.timings.collapse,
+                    passes: s.passes.max(r.timings.passes),
+                })
+            });
+            drop(results);
+            let row = Speed {
+                input: label.clone(),
+                triangles,
+                simplifier: method.name().to_string(),
+                threads,
+                seconds,
+                cpu_seconds: cpu,
+                triangles_per_s: triangles as f64 / seconds,
+                triangles_per_cpu_s: triangles as f64 / cpu,
+                stages,
+            };
+            eprintln!(
+                "  {:<24} {:>9} triangles {:<20} {} thread(s): {:.3} s ({:.3} CPU s), {:.2} M/s, {:.2} M/CPU s",
+                row.input,
+                row.triangles,
+                row.simplifier,
+                threads,
+                row.seconds,
+                row.cpu_seconds,
+                row.triangles_per_s / 1e6,
+                row.triangles_per_cpu_s / 1e6
+            );
+            speed.push(row);
+        }
+    }
+
+    let goals = goals(&fidelity, &speed);
+    notes.push(format!(
+        "load average at end: {}",
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+    ));
+    notes.push(
+        "CPU seconds are the process's (all threads); per-core rates divide input triangles by them. \
+         Rates of tiny models (simpleb8) are dominated by fixed costs."
+            .to_string(),
+    );
+    Ok(LodReport {
+        adapter: renderer.gpu.describe(),
+        cores,
+        fidelity,
+        speed,
+        goals,
+        peak_memory_mb: peak_memory_kb().map_or(f64::NAN, |kb| kb as f64 / 1e3),
+        notes,
+    })
+}
+
+/// The issue's goals: at 10 %, F1 >= 0.95 on every real model and at least the best
+/// meshopt simplifier's; at least a million input triangles per second per core.
+fn goals(fidelity: &[Fidelity], speed: &[Speed]) -> Vec<Goal> {
+    let mut out = Vec::new();
+    let mut models: Vec<&str> = fidelity.iter().map(|f| f.model.as_str()).collect();
+    models.dedup();
+    for model in models {
+        let at = |name: &str| {
+            fidelity
+                .iter()
+                .find(|f| {
+                    f.model == model && f.simplifier == name && f.budget_percent == GOAL_BUDGET
+                })
+                .map(|f| f.f1)
+        };
+        let Some(ours) = at("strata") else {
+            continue;
+        };
+        out.push(Goal {
+            goal: format!("{model}: line-pixel F1 at 10 %"),
+            value: ours,
+            threshold: GOAL_F1,
+            met: ours >= GOAL_F1,
+        });
+        let best = Simplifier::ALL
+            .iter()
+            .filter_map(|s| at(s.name()))
+            .fold(0.0, f64::max);
+        out.push(Goal {
+            goal: format!("{model}: F1 at 10 % against the best meshopt simplifier"),
+            value: ours,
+            threshold: best,
+            met: ours >= best,
+        });
+    }
+    for s in speed
+        .iter()
+        .filter(|s| s.simplifier == "strata" && s.threads == 1 && s.triangles >= 100_000)
+    {
+        out.push(Goal {
+            goal: format!("{}: input triangles per CPU second, one thread", s.input),
+            value: s.triangles_per_cpu_s,
+            threshold: GOAL_RATE,
+            met: s.triangles_per_cpu_s >= GOAL_RATE,
+        });
+    }
+    out
+}
+
+/// Peak resident memory of this process (VmHWM), kB.
+pub fn peak_memory_kb() -> Option<u64> {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()?
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()
+}
+
+pub fn print_table(report: &LodReport) {
+    println!("{} ({} cores)", report.adapter, report.cores);
+    println!(
+        "{:<12} {:<20} {:>6} {:>9} {:>10} {:>10} {:>7} {:>7} {:>7} {:>7}",
+        "model",
+        "simplifier",
+        "budget",
+        "triangles",
+        "max/ext",
+        "rms/ext",
+        "outside",
+        "F1",
+        "strict",
+        "RMS col"
+    );
+    for f in &report.fidelity {
+        println!(
+            "{:<12} {:<20} {:>5.0}% {:>9} {:>10.2e} {:>10.2e} {:>7.4} {:>7.3} {:>7.3} {:>7.2}",
+            f.model,
+            f.simplifier,
+            f.budget_percent,
+            f.kept_triangles,
+            f.line_max_rel,
+            f.line_rms_rel,
+            f.outside,
+            f.f1,
+            f.f1_strict,
+            f.rms_colour
+        );
+    }
+    println!();
+    println!(
+        "{:<24} {:>9} {:<20} {:>7} {:>9} {:>9} {:>9} {:>11}",
+        "input", "triangles", "simplifier", "threads", "s", "CPU s", "M tri/s", "M tri/CPU s"
+    );
+    for s in &report.speed {
+        println!(
+            "{:<24} {:>9} {:<20} {:>7} {:>9.3} {:>9.3} {:>9.2} {:>11.2}",
+            s.input,
+            s.triangles,
+            s.simplifier,
+            s.threads,
+            s.seconds,
+            s.cpu_seconds,
+            s.triangles_per_s / 1e6,
+            s.triangles_per_cpu_s / 1e6
+        );
+        if let Some(st) = &s.stages {
+            println!(
+                "{:>26} stages: reference {:.3} s, setup {:.3} s, evaluate {:.3} s, collapse {:.3} s, {} passes",
+                "", st.reference, st.setup, st.evaluate, st.collapse, st.passes
+            );
+        }
+    }
+    println!();
+    for g in &report.goals {
+        println!(
+            "{} {}: {:.3} (goal {:.3})",
+            if g.met { "MET   " } else { "MISSED" },
+            g.goal,
+            g.value,
+            g.threshold
+        );
+    }
+    println!("peak memory {:.0} MB", report.peak_memory_mb);
+    for n in &report.notes {
+        println!("note: {n}");
+    }
+}
+
+/// The shared data folder beside the repository.
+pub fn default_data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data")
+}

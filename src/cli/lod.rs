@@ -1,0 +1,258 @@
+//! `strata lod`: build a level-of-detail hierarchy file of a model, and view one; and
+//! the decimation behind `strata render --lod`.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::{Args, Subcommand};
+use strata::grid::SurfaceMesh;
+use strata::lod::{BuildOptions, LodFile, Options, ViewPoint, build_file, decimate};
+use strata::render::glam::Vec3;
+use strata::render::{Camera, Renderer, Style, View, WireMode};
+
+#[derive(Subcommand)]
+pub enum LodCommand {
+    /// Build the hierarchy of every layer surface of a model (on all cores) and save it.
+    Build(BuildArgs),
+    /// Open a saved hierarchy (memory mapped), choose the nodes a view needs for a
+    /// given pixel error, print what was chosen, and draw it to a PNG.
+    View(ViewArgs),
+}
+
+#[derive(Args)]
+pub struct BuildArgs {
+    /// Model file (.grdecl, .DATA, .EGRID).
+    model: PathBuf,
+    /// Output hierarchy file.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Cells along each side of a leaf tile.
+    #[arg(long, default_value_t = 64)]
+    tile: u32,
+    /// Vertical exaggeration the hierarchy will be viewed with (weighs vertical error).
+    #[arg(long, default_value_t = 5.0)]
+    zscale: f32,
+    /// Property stored as the vertices' scalar (default: PORO when the model has it).
+    #[arg(long)]
+    property: Option<String>,
+    /// Store no scalar.
+    #[arg(long, conflicts_with = "property")]
+    no_property: bool,
+    /// Read the grid only (e.g. decks whose property INCLUDE files are missing).
+    #[arg(long)]
+    grid_only: bool,
+}
+
+#[derive(Args)]
+pub struct ViewArgs {
+    /// Hierarchy file written by `strata lod build`.
+    file: PathBuf,
+    /// Largest projected error of a chosen node, in pixels.
+    #[arg(long, default_value_t = 1.0)]
+    pixels: f32,
+    /// Vertical exaggeration.
+    #[arg(long, default_value_t = 5.0)]
+    zscale: f32,
+    /// View: azimuth, elevation (degrees), and optionally distance as a multiple of
+    /// the fitting distance.
+    #[arg(long, default_value = "30,35", value_parser = super::render::parse_view)]
+    view: (f32, f32, f32),
+    /// Image size WxH.
+    #[arg(long, default_value = "1200x900", value_parser = super::render::parse_size)]
+    size: (u32, u32),
+    /// Wireframe technique: none, global, quad, tex, texgs (global draws the original
+    /// grid on whatever level is drawn).
+    #[arg(long, default_value = "global", value_parser = super::render::parse_wire)]
+    wire: WireMode,
+    /// Output PNG; only the selection is printed when omitted.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+pub fn run(command: &LodCommand) -> Result<()> {
+    match command {
+        LodCommand::Build(args) => build(args),
+        LodCommand::View(args) => view(args),
+    }
+}
+
+fn build(args: &BuildArgs) -> Result<()> {
+    let start = Instant::now();
+    let options = strata::grid::ReadOptions {
+        grid_only: args.grid_only,
+        ..strata::grid::ReadOptions::default()
+    };
+    let grid = strata::grid::open_with(&args.model, &options)
+        .with_context(|| format!("reading {}", args.model.display()))?;
+    let read = start.elapsed().as_secs_f64();
+    let property = if args.no_property {
+        None
+    } else {
+        match &args.property {
+            Some(p) => Some(p.clone()),
+            None => grid.property("PORO").map(|_| "PORO".to_string()),
+        }
+    };
+    let d = grid.dims();
+    eprintln!(
+        "{}: {} x {} x {} cells read in {read:.1} s; building {} layer surfaces on {} threads",
+        args.model.display(),
+        d.nx,
+        d.ny,
+        d.nz,
+        d.nz + 1,
+        threads()
+    );
+    let options = BuildOptions {
+        tile_cells: args.tile,
+        decimation: Options {
+            z_scale: args.zscale,
+            ..Options::default()
+        },
+        progress: true,
+        ..BuildOptions::default()
+    };
+    let report = build_file(&grid, property.as_deref(), &args.output, &options)?;
+    drop(grid);
+    eprintln!(
+        "{}: {} layer surfaces, {} nodes in {} levels, {} triangles in, {} stored, {:.2} GB; \
+         built in {:.1} s, {:.1} s in all; peak memory {}",
+        args.output.display(),
+        report.layers,
+        report.nodes,
+        report.levels + 1,
+        report.input_triangles,
+        report.stored_triangles,
+        report.bytes as f64 / 1e9,
+        report.seconds,
+        start.elapsed().as_secs_f64(),
+        strata::bench::lod::peak_memory_kb().map_or("unknown".to_string(), |kb| format!(
+            "{:.2} GB",
+            kb as f64 / 1e6
+        )),
+    );
+    Ok(())
+}
+
+fn view(args: &ViewArgs) -> Result<()> {
+    let start = Instant::now();
+    let file = LodFile::open(&args.file)?;
+    // Frame the roots, which cover the model.
+    let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
+    if roots.is_empty() {
+        bail!("{}: no layer surface", args.file.display());
+    }
+    let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    for &r in &roots {
+        let n = &file.nodes()[r as usize];
+        for a in 0..3 {
+            lo[a] = lo[a].min(n.min[a]);
+            hi[a] = hi[a].max(n.max[a]);
+        }
+    }
+    let bounds = (Vec3::from(lo), Vec3::from(hi));
+    let (az, el, dist) = args.view;
+    let camera = Camera::fit(
+        bounds.0,
+        bounds.1,
+        args.zscale,
+        args.size.0 as f32 / args.size.1 as f32,
+        (az, el),
+        dist,
+    );
+    let point = ViewPoint {
+        eye: camera.eye.to_array(),
+        z_scale: args.zscale,
+        fov_y_deg: camera.fov_y_deg,
+        height_px: args.size.1,
+    };
+    let chosen = file.select(&point, args.pixels);
+    let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
+    for &i in &chosen {
+        let n = &file.nodes()[i as usize];
+        let e = per_level.entry(n.level).or_default();
+        e.0 += 1;
+        e.1 += n.index_count as usize / 3;
+    }
+    let all: usize = file
+        .nodes()
+        .iter()
+        .filter(|n| n.level == 0)
+        .map(|n| n.index_count as usize / 3)
+        .sum();
+    let drawn: usize = per_level.values().map(|v| v.1).sum();
+    eprintln!(
+        "{}: {} nodes; at most {} px from this view: {} nodes, {drawn} of {all} full-resolution \
+         triangles ({:.1} %), chosen in {:.3} s",
+        args.file.display(),
+        file.nodes().len(),
+        args.pixels,
+        chosen.len(),
+        100.0 * drawn as f64 / all.max(1) as f64,
+        start.elapsed().as_secs_f64()
+    );
+    for (level, (nodes, tris)) in &per_level {
+        eprintln!("  level {level}: {nodes} nodes, {tris} triangles");
+    }
+    if let Some(output) = &args.output {
+        let mesh = file.selection_mesh(&chosen)?;
+        let mut renderer = Renderer::headless()?;
+        let drawable = renderer.prepare(&mesh, args.wire)?;
+        let view = View {
+            camera,
+            width: args.size.0,
+            height: args.size.1,
+            bounds,
+        };
+        let image = renderer.render(&[drawable.as_ref()], &view, &Style::default())?;
+        strata::render::save_png(&image, output)?;
+        eprintln!(
+            "{}: drawn with the {} wireframe",
+            output.display(),
+            args.wire.name()
+        );
+    }
+    Ok(())
+}
+
+/// `strata render --lod PERCENT`: `mesh` decimated to `percent` % of its triangles,
+/// its vertical error weighed with the view's exaggeration `z_scale`.
+pub fn decimate_scene(mesh: &SurfaceMesh, percent: f64, z_scale: f32) -> Result<SurfaceMesh> {
+    let start = Instant::now();
+    let options = Options {
+        z_scale,
+        ..Options::fraction(mesh, percent / 100.0)
+    };
+    let out = decimate(mesh, &options).context("decimating the scene")?;
+    eprintln!(
+        "decimated {} -> {} triangles ({:.1} %), {} new vertices, error {:.3} in {:.2} s",
+        mesh.triangle_count(),
+        out.mesh.triangle_count(),
+        100.0 * out.mesh.triangle_count() as f64 / mesh.triangle_count().max(1) as f64,
+        out.source
+            .iter()
+            .filter(|&&s| s == strata::lod::NEW)
+            .count(),
+        out.error,
+        start.elapsed().as_secs_f64()
+    );
+    if out.mesh.is_empty() {
+        return Err(anyhow!("decimation left no triangle"));
+    }
+    Ok(out.mesh)
+}
+
+/// `--lod PERCENT`: a share of the triangles in (0, 100].
+pub fn parse_percent(s: &str) -> Result<f64, String> {
+    s.trim()
+        .trim_end_matches('%')
+        .parse::<f64>()
+        .ok()
+        .filter(|p| *p > 0.0 && *p <= 100.0)
+        .ok_or_else(|| format!("{s:?} is not a percentage in (0, 100]"))
+}
+
+fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
