@@ -6,11 +6,17 @@
 //! never drawn (Gateau's quad pattern); triangles with a corner behind the near plane
 //! take Gateau's path, which passes the visible parts of the edges as window lines.
 //!
-//! The paper does the per-triangle work in a geometry shader, which wgpu lacks: here
-//! the vertex shader pulls its whole triangle from storage buffers (a non-indexed draw
-//! of 3 T vertices). The hidden-line styles: TEHD and CEHD draw the polygons a second
-//! time behind the visible surface (depth test "farther", no depth writes) with only
-//! their edges, dashed; CEHS and CEHD keep the contour edges only, found per frame
+//! The paper does the per-triangle work in a geometry shader, which wgpu lacks. Two
+//! ways were measured (lavapipe, 1M triangles at 1000 x 800, interleaved frames; shaded
+//! only / compute prepass / vertex pulling): sphere 323 / 471 / 739 ms, terrain 355 /
+//! 478 / 791 ms, reservoir 223 / 349 / 584 ms. Pulling (a non-indexed draw whose vertex
+//! shader reads its whole triangle from storage) projects every corner three times in
+//! llvmpipe's single-threaded vertex stage; the compute prepass kept here projects each
+//! corner once, on the multi-threaded compute pool, and writes per corner its clip
+//! position and distances (times w, see distance.wgsl) and per triangle Gateau's lines,
+//! which the draw reads back. The hidden-line styles: TEHD and CEHD draw the polygons a
+//! second time behind the visible surface (depth test "farther", no depth writes) with
+//! only their edges, dashed; CEHS and CEHD keep the contour edges only, found per frame
 //! from the vertex across each edge.
 
 use std::cell::RefCell;
@@ -25,21 +31,15 @@ use super::lines::{
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
 use crate::{Gpu, HiddenLines, Result};
 
-/// Which pipeline: contour edges only, the hidden (dashed) pass, and whether the
-/// per-triangle work was done by the compute prepass.
+/// Which pipeline: contour edges only, and the hidden (dashed) pass.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 struct Variant {
     contours: bool,
     hidden: bool,
-    prepass: bool,
 }
 
-/// Per-triangle work in a compute prepass rather than in the vertex shader.
-const PREPASS: bool = true;
-
-/// Layouts of group 1: the pulling vertex shader's, the prepass's, the draw's after it.
+/// Layouts of group 1: the prepass's and the draw's.
 struct Layouts {
-    pull: wgpu::BindGroupLayout,
     compute: wgpu::BindGroupLayout,
     draw: wgpu::BindGroupLayout,
 }
@@ -109,7 +109,6 @@ impl DistTechnique {
         };
         let (vertex, compute) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::COMPUTE);
         let layouts = Rc::new(Layouts {
-            pull: storage_layout(device, "dist", &[0, 1, 2], vertex),
             compute: layout(
                 "dist prepass",
                 &[
@@ -134,19 +133,14 @@ impl DistTechnique {
         });
         let l = layouts.clone();
         let pipelines = LazyPipelines::new(ctx, move |v: Variant, device, frame_layout| {
-            let group = [if v.prepass { &l.draw } else { &l.pull }];
+            let group = [&l.draw];
             let constants = [("CONTOURS", f64::from(u8::from(v.contours)))];
             let fs = if v.hidden {
                 "fs_dist_hidden"
             } else {
                 "fs_dist"
             };
-            let vs = if v.prepass {
-                "vs_dist_prepass"
-            } else {
-                "vs_dist"
-            };
-            let mut spec = PassSpec::new("dist", &module, vs, fs);
+            let mut spec = PassSpec::new("dist", &module, "vs_dist_prepass", fs);
             spec.extra_layouts = &group;
             spec.constants = &constants;
             if v.hidden {
@@ -174,49 +168,33 @@ impl Technique for DistTechnique {
         let mut bytes = vertices.bytes();
         let mut draws = Vec::new();
         // The prepass writes 8 vec4 per triangle: two per corner, two for Gateau's lines.
-        let per_triangle = if PREPASS { 128 } else { 32 };
-        for range in chunks(gpu, records.len(), per_triangle) {
+        for range in chunks(gpu, records.len(), 128) {
             let triangles = storage(
                 gpu,
                 "dist triangles",
                 bytemuck::cast_slice(&records[range.clone()]),
             )?;
+            let corners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("dist corners"),
+                size: 128 * range.len() as u64,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
             bytes += triangles.size();
-            let common = [
-                (0, &vertices.positions),
-                (1, &vertices.scalars),
-                (2, &triangles),
-            ];
-            let chunk = if PREPASS {
-                let corners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("dist corners"),
-                    size: 128 * range.len() as u64,
-                    usage: wgpu::BufferUsages::STORAGE,
-                    mapped_at_creation: false,
-                });
-                let with = |binding| {
-                    let mut entries = common.to_vec();
-                    entries.push((binding, &corners));
-                    entries
-                };
-                Chunk {
-                    draw: bind_buffers(&gpu.device, "dist", &self.layouts.draw, &with(4)),
-                    compute: Some(bind_buffers(
-                        &gpu.device,
-                        "dist prepass",
-                        &self.layouts.compute,
-                        &with(3),
-                    )),
-                    triangles: range.len() as u32,
-                }
-            } else {
-                Chunk {
-                    draw: bind_buffers(&gpu.device, "dist", &self.layouts.pull, &common),
-                    compute: None,
-                    triangles: range.len() as u32,
-                }
+            let group = |label, layout, binding| {
+                let entries = [
+                    (0, &vertices.positions),
+                    (1, &vertices.scalars),
+                    (2, &triangles),
+                    (binding, &corners),
+                ];
+                bind_buffers(&gpu.device, label, layout, &entries)
             };
-            draws.push(chunk);
+            draws.push(Chunk {
+                draw: group("dist", &self.layouts.draw, 4),
+                compute: group("dist prepass", &self.layouts.compute, 3),
+                triangles: range.len() as u32,
+            });
         }
         Ok(Box::new(DistDraw {
             pipelines: self.pipelines.clone(),
@@ -228,10 +206,10 @@ impl Technique for DistTechnique {
     }
 }
 
-/// One chunk of triangles: the draw's bind group, the prepass's when there is one.
+/// One chunk of triangles: the bind groups of the prepass and of the draw.
 struct Chunk {
     draw: wgpu::BindGroup,
-    compute: Option<wgpu::BindGroup>,
+    compute: wgpu::BindGroup,
     triangles: u32,
 }
 
@@ -247,7 +225,7 @@ impl Drawable for DistDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let hidden = frame.style.hidden;
         let contours = hidden.contours_only();
-        if self.draws.iter().any(|c| c.compute.is_some()) {
+        {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("dist prepass"),
                 timestamp_writes: None,
@@ -255,10 +233,8 @@ impl Drawable for DistDraw {
             pass.set_pipeline(&self.prepass.get(contours));
             pass.set_bind_group(0, frame.frame_bind_group, &[]);
             for chunk in &self.draws {
-                if let Some(group) = &chunk.compute {
-                    pass.set_bind_group(1, group, &[]);
-                    pass.dispatch_workgroups(chunk.triangles.div_ceil(64), 1, 1);
-                }
+                pass.set_bind_group(1, &chunk.compute, &[]);
+                pass.dispatch_workgroups(chunk.triangles.div_ceil(64), 1, 1);
             }
         }
         let mut pass = frame.begin_pass(encoder, "dist");
@@ -271,7 +247,6 @@ impl Drawable for DistDraw {
             pass.set_pipeline(&self.pipelines.get(Variant {
                 contours,
                 hidden: dashed,
-                prepass: PREPASS,
             }));
             for chunk in &self.draws {
                 pass.set_bind_group(1, &chunk.draw, &[]);
