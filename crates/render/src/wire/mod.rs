@@ -15,7 +15,7 @@ pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;
 
-use crate::{Gpu, HiddenLines, Result, Style};
+use crate::{Coverage, Gpu, HiddenLines, Result, Style};
 
 /// The wireframe techniques.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -171,10 +171,60 @@ pub(crate) fn pipeline(
     ctx: &PipelineContext,
     label: &str,
     module: &wgpu::ShaderModule,
-    (vs, fs): (&str, &str),
+    entries: (&str, &str),
     buffers: &[Option<wgpu::VertexBufferLayout>],
     extra_layouts: &[&wgpu::BindGroupLayout],
 ) -> wgpu::RenderPipeline {
+    pipeline_with(ctx, label, module, entries, buffers, extra_layouts, &[])
+}
+
+/// [`pipeline`] once per coverage form (texture, analytic), with `COVERAGE_FORM`
+/// (common.wgsl) fixed so that each shader evaluates one form only; pick one with
+/// [`coverage_form`].
+pub(crate) fn coverage_pipelines(
+    ctx: &PipelineContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    entries: (&str, &str),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    extra_layouts: &[&wgpu::BindGroupLayout],
+) -> [wgpu::RenderPipeline; 2] {
+    [0.0, 1.0].map(|form| {
+        let constants = [("COVERAGE_FORM", form)];
+        pipeline_with(
+            ctx,
+            label,
+            module,
+            entries,
+            buffers,
+            extra_layouts,
+            &constants,
+        )
+    })
+}
+
+/// The index into [`coverage_pipelines`] of the frame's coverage.
+pub(crate) fn coverage_form(frame: &FrameTargets) -> usize {
+    match frame.style.coverage {
+        Coverage::Texture => 0,
+        Coverage::Analytic => 1,
+    }
+}
+
+/// [`pipeline`] with values for the shader's `override` constants.
+fn pipeline_with(
+    ctx: &PipelineContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    (vs, fs): (&str, &str),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    extra_layouts: &[&wgpu::BindGroupLayout],
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    let options = wgpu::PipelineCompilationOptions {
+        constants,
+        ..Default::default()
+    };
     let device = &ctx.gpu.device;
     let mut layouts: Vec<Option<&wgpu::BindGroupLayout>> = vec![Some(ctx.frame_layout)];
     layouts.extend(extra_layouts.iter().map(|l| Some(*l)));
@@ -189,7 +239,7 @@ pub(crate) fn pipeline(
         vertex: wgpu::VertexState {
             module,
             entry_point: Some(vs),
-            compilation_options: Default::default(),
+            compilation_options: options.clone(),
             buffers,
         },
         primitive: wgpu::PrimitiveState {
@@ -208,7 +258,7 @@ pub(crate) fn pipeline(
         fragment: Some(wgpu::FragmentState {
             module,
             entry_point: Some(fs),
-            compilation_options: Default::default(),
+            compilation_options: options,
             targets: &[Some(wgpu::ColorTargetState {
                 format: COLOR_FORMAT,
                 blend: Some(wgpu::BlendState::ALPHA_BLENDING),

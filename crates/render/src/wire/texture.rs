@@ -10,7 +10,8 @@ use wgpu::util::DeviceExt;
 
 use super::labels::{Labelling, label_vertices};
 use super::{
-    Drawable, FrameTargets, PipelineContext, Technique, WireMode, pipeline, texture_shader,
+    Drawable, FrameTargets, PipelineContext, Technique, WireMode, coverage_form,
+    coverage_pipelines, texture_shader,
 };
 use crate::{Error, Gpu, Result};
 
@@ -49,7 +50,8 @@ const TEX3_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
 /// `none`, `global`, `quad` and `tex`: indexed vertex buffers.
 pub struct VertexTechnique {
     mode: WireMode,
-    pipeline: wgpu::RenderPipeline,
+    /// One per coverage form (`coverage_pipelines`).
+    pipelines: [wgpu::RenderPipeline; 2],
 }
 
 impl VertexTechnique {
@@ -70,8 +72,9 @@ impl VertexTechnique {
             WireMode::Tex => (("vs_tex3", "fs_tex3"), tex3_layout),
             _ => (("vs_uv", "fs_uv"), uv_layout),
         };
-        let pipeline = pipeline(ctx, mode.name(), &module, entries, &[Some(layout)], &[]);
-        VertexTechnique { mode, pipeline }
+        let pipelines =
+            coverage_pipelines(ctx, mode.name(), &module, entries, &[Some(layout)], &[]);
+        VertexTechnique { mode, pipelines }
     }
 }
 
@@ -113,7 +116,7 @@ impl Technique for VertexTechnique {
         };
         Ok(Box::new(IndexedDraw::new(
             gpu,
-            self.pipeline.clone(),
+            self.pipelines.clone(),
             &vertices,
             &triangles,
             self.mode.name(),
@@ -173,7 +176,7 @@ fn quad_vertices(mesh: &SurfaceMesh) -> Result<(Vec<UvVertex>, Vec<[u32; 3]>)> {
 
 /// An indexed triangle list in a vertex and an index buffer.
 struct IndexedDraw {
-    pipeline: wgpu::RenderPipeline,
+    pipelines: [wgpu::RenderPipeline; 2],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -183,7 +186,7 @@ struct IndexedDraw {
 impl IndexedDraw {
     fn new(
         gpu: &Gpu,
-        pipeline: wgpu::RenderPipeline,
+        pipelines: [wgpu::RenderPipeline; 2],
         vertices: &[u8],
         triangles: &[[u32; 3]],
         label: &str,
@@ -205,7 +208,7 @@ impl IndexedDraw {
             usage: wgpu::BufferUsages::INDEX,
         });
         Ok(IndexedDraw {
-            pipeline,
+            pipelines,
             vertices: vertex_buffer,
             indices: index_buffer,
             index_count: 3 * triangles.len() as u32,
@@ -217,7 +220,7 @@ impl IndexedDraw {
 impl Drawable for IndexedDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "indexed mesh");
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(&self.pipelines[coverage_form(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -236,7 +239,7 @@ impl Drawable for IndexedDraw {
 /// `texgs`: non-indexed draw of 3 T vertices; the vertex shader reads the index and
 /// vertex data from storage buffers and makes each corner's coordinates.
 pub struct PulledTechnique {
-    pipeline: wgpu::RenderPipeline,
+    pipelines: [wgpu::RenderPipeline; 2],
     layout: wgpu::BindGroupLayout,
 }
 
@@ -258,7 +261,7 @@ impl PulledTechnique {
             entries: &[entry(0), entry(1), entry(2), entry(3)],
         });
         let module = texture_shader(device);
-        let pipeline = pipeline(
+        let pipelines = coverage_pipelines(
             ctx,
             "texgs",
             &module,
@@ -266,7 +269,7 @@ impl PulledTechnique {
             &[],
             &[&layout],
         );
-        PulledTechnique { pipeline, layout }
+        PulledTechnique { pipelines, layout }
     }
 }
 
@@ -324,7 +327,7 @@ impl Technique for PulledTechnique {
             entries: &entries,
         });
         Ok(Box::new(PulledDraw {
-            pipeline: self.pipeline.clone(),
+            pipelines: self.pipelines.clone(),
             bind_group,
             vertex_count: 3 * mesh.triangles.len() as u32,
             bytes,
@@ -333,7 +336,7 @@ impl Technique for PulledTechnique {
 }
 
 struct PulledDraw {
-    pipeline: wgpu::RenderPipeline,
+    pipelines: [wgpu::RenderPipeline; 2],
     bind_group: wgpu::BindGroup,
     vertex_count: u32,
     bytes: u64,
@@ -342,7 +345,7 @@ struct PulledDraw {
 impl Drawable for PulledDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "texgs");
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(&self.pipelines[coverage_form(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_bind_group(1, &self.bind_group, &[]);
         pass.draw(0..self.vertex_count, 0..1);
