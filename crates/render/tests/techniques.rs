@@ -349,8 +349,8 @@ fn no_artefacts_with_the_eye_among_the_triangles() {
         let ahead = lit(
             &frame,
             &proj,
-            Vec3::new(0.5, -10.0, 0.0),
-            Vec3::new(5.5, -10.0, 0.0),
+            Vec3::new(1.0, -10.0, 0.0),
+            Vec3::new(5.0, -10.0, 0.0),
             Vec2::ZERO,
         );
         eprintln!(
