@@ -123,7 +123,7 @@ fn coverage_texture(x: f32, grad: f32, a: f32) -> f32 {
 
 // Which coverage a pipeline evaluates: 0 the texture, 1 analytic, 2 the one the frame
 // uniform names. The texture techniques build a pipeline per form (wire/mod.rs,
-// `coverage_pipelines`) so that each shader holds one form: llvmpipe and lavapipe pay
+// `texture_pipelines`) so that each shader holds one form: llvmpipe and lavapipe pay
 // for code under a uniform branch even when it is not taken. Measured on lavapipe, 1M-
 // triangle terrain, interleaved frames: `global` analytic 767 ms with both forms in
 // the shader, 375 ms with one; even the shaded-only frame pays for the texture taps
@@ -184,8 +184,18 @@ fn iso_coordinate(scalar: f32) -> f32 {
 // Major isolines (every frame.iso.z-th, counted from the offset) are drawn at full
 // opacity, the others at half: one texture serves both.
 fn extra_lines(wp: vec3<f32>, s: f32, defined: bool, a: f32) -> vec4<f32> {
+    if !EXTRA_LINES {
+        return vec4<f32>(0.0);
+    }
     return extra_lines_floored(wp, s, defined, a, 0.0);
 }
+
+// Whether a pipeline draws isolines and grid lines at all. The texture techniques
+// build pipelines without them for frames that have none (wire/mod.rs,
+// `texture_pipelines`), for the reason of COVERAGE_FORM: the CPU rasterizers paid for
+// the disabled branches, texture taps included, in every frame (1M-triangle terrain,
+// lavapipe: the shaded-only frame 1.4 to 2 times slower with the texture form).
+override EXTRA_LINES: bool = true;
 
 // extra_lines with the isolines' gradient floored at `min_grad` units per pixel (the
 // isoline technique's way of sampling as the paper does, see isoline.wgsl).

@@ -178,19 +178,23 @@ pub(crate) fn pipeline(
     pipeline_with(ctx, label, module, entries, buffers, extra_layouts, &[])
 }
 
-/// [`pipeline`] once per coverage form (texture, analytic), with `COVERAGE_FORM`
-/// (common.wgsl) fixed so that each shader evaluates one form only; pick one with
-/// [`coverage_form`].
-pub(crate) fn coverage_pipelines(
+/// [`pipeline`] once per coverage form (texture, analytic) and with or without
+/// isolines and grid lines, the `COVERAGE_FORM` and `EXTRA_LINES` constants of
+/// common.wgsl fixed so that each shader holds only what its frames draw (the CPU
+/// rasterizers pay for untaken uniform branches); pick one with [`texture_variant`].
+pub(crate) fn texture_pipelines(
     ctx: &PipelineContext,
     label: &str,
     module: &wgpu::ShaderModule,
     entries: (&str, &str),
     buffers: &[Option<wgpu::VertexBufferLayout>],
     extra_layouts: &[&wgpu::BindGroupLayout],
-) -> [wgpu::RenderPipeline; 2] {
-    [0.0, 1.0].map(|form| {
-        let constants = [("COVERAGE_FORM", form)];
+) -> [wgpu::RenderPipeline; 4] {
+    [0, 1, 2, 3].map(|variant| {
+        let constants = [
+            ("COVERAGE_FORM", f64::from(variant % 2)),
+            ("EXTRA_LINES", f64::from(variant / 2)),
+        ];
         pipeline_with(
             ctx,
             label,
@@ -203,12 +207,14 @@ pub(crate) fn coverage_pipelines(
     })
 }
 
-/// The index into [`coverage_pipelines`] of the frame's coverage.
-pub(crate) fn coverage_form(frame: &FrameTargets) -> usize {
-    match frame.style.coverage {
+/// The index into [`texture_pipelines`] for the frame's style.
+pub(crate) fn texture_variant(frame: &FrameTargets) -> usize {
+    let form = match frame.style.coverage {
         Coverage::Texture => 0,
         Coverage::Analytic => 1,
-    }
+    };
+    let extra = frame.style.isolines.is_some() || frame.style.grid_lines.is_some();
+    form + 2 * usize::from(extra)
 }
 
 /// [`pipeline`] with values for the shader's `override` constants.

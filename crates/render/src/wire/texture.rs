@@ -10,8 +10,8 @@ use wgpu::util::DeviceExt;
 
 use super::labels::{Labelling, label_vertices};
 use super::{
-    Drawable, FrameTargets, PipelineContext, Technique, WireMode, coverage_form,
-    coverage_pipelines, texture_shader,
+    Drawable, FrameTargets, PipelineContext, Technique, WireMode, texture_pipelines,
+    texture_shader, texture_variant,
 };
 use crate::{Error, Gpu, Result};
 
@@ -50,8 +50,8 @@ const TEX3_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
 /// `none`, `global`, `quad` and `tex`: indexed vertex buffers.
 pub struct VertexTechnique {
     mode: WireMode,
-    /// One per coverage form (`coverage_pipelines`).
-    pipelines: [wgpu::RenderPipeline; 2],
+    /// One per coverage form and use of extra lines (`texture_pipelines`).
+    pipelines: [wgpu::RenderPipeline; 4],
 }
 
 impl VertexTechnique {
@@ -72,8 +72,7 @@ impl VertexTechnique {
             WireMode::Tex => (("vs_tex3", "fs_tex3"), tex3_layout),
             _ => (("vs_uv", "fs_uv"), uv_layout),
         };
-        let pipelines =
-            coverage_pipelines(ctx, mode.name(), &module, entries, &[Some(layout)], &[]);
+        let pipelines = texture_pipelines(ctx, mode.name(), &module, entries, &[Some(layout)], &[]);
         VertexTechnique { mode, pipelines }
     }
 }
@@ -176,7 +175,7 @@ fn quad_vertices(mesh: &SurfaceMesh) -> Result<(Vec<UvVertex>, Vec<[u32; 3]>)> {
 
 /// An indexed triangle list in a vertex and an index buffer.
 struct IndexedDraw {
-    pipelines: [wgpu::RenderPipeline; 2],
+    pipelines: [wgpu::RenderPipeline; 4],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -186,7 +185,7 @@ struct IndexedDraw {
 impl IndexedDraw {
     fn new(
         gpu: &Gpu,
-        pipelines: [wgpu::RenderPipeline; 2],
+        pipelines: [wgpu::RenderPipeline; 4],
         vertices: &[u8],
         triangles: &[[u32; 3]],
         label: &str,
@@ -220,7 +219,7 @@ impl IndexedDraw {
 impl Drawable for IndexedDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "indexed mesh");
-        pass.set_pipeline(&self.pipelines[coverage_form(frame)]);
+        pass.set_pipeline(&self.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -239,7 +238,7 @@ impl Drawable for IndexedDraw {
 /// `texgs`: non-indexed draw of 3 T vertices; the vertex shader reads the index and
 /// vertex data from storage buffers and makes each corner's coordinates.
 pub struct PulledTechnique {
-    pipelines: [wgpu::RenderPipeline; 2],
+    pipelines: [wgpu::RenderPipeline; 4],
     layout: wgpu::BindGroupLayout,
 }
 
@@ -261,7 +260,7 @@ impl PulledTechnique {
             entries: &[entry(0), entry(1), entry(2), entry(3)],
         });
         let module = texture_shader(device);
-        let pipelines = coverage_pipelines(
+        let pipelines = texture_pipelines(
             ctx,
             "texgs",
             &module,
@@ -336,7 +335,7 @@ impl Technique for PulledTechnique {
 }
 
 struct PulledDraw {
-    pipelines: [wgpu::RenderPipeline; 2],
+    pipelines: [wgpu::RenderPipeline; 4],
     bind_group: wgpu::BindGroup,
     vertex_count: u32,
     bytes: u64,
@@ -345,7 +344,7 @@ struct PulledDraw {
 impl Drawable for PulledDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "texgs");
-        pass.set_pipeline(&self.pipelines[coverage_form(frame)]);
+        pass.set_pipeline(&self.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_bind_group(1, &self.bind_group, &[]);
         pass.draw(0..self.vertex_count, 0..1);
