@@ -810,3 +810,46 @@ pub fn print_table(report: &LodReport) {
 pub fn default_data() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(lines: &[(u32, u32)]) -> Vec<bool> {
+        let mut f = vec![false; (WIDTH * HEIGHT) as usize];
+        for &(x, y) in lines {
+            f[(y * WIDTH + x) as usize] = true;
+        }
+        f
+    }
+
+    #[test]
+    fn f1_matches_lines_within_the_tolerance() {
+        let want = frame(&(100..200).map(|x| (x, 50)).collect::<Vec<_>>());
+        let moved = frame(&(100..200).map(|x| (x, 51)).collect::<Vec<_>>());
+        assert_eq!(f1(&want, &want, 0), (1.0, 1.0, 1.0));
+        // One pixel off: all matched within one pixel, none exactly.
+        assert_eq!(f1(&moved, &want, 1).2, 1.0);
+        assert_eq!(f1(&moved, &want, 0).2, 0.0);
+        // Half the line missing: precision 1, recall 1/2.
+        let half = frame(&(100..150).map(|x| (x, 50)).collect::<Vec<_>>());
+        let (p, r, f) = f1(&half, &want, 1);
+        assert!((p - 1.0).abs() < 1e-12 && (r - 0.5).abs() < 0.02 && (f - 2.0 / 3.0).abs() < 0.02);
+    }
+
+    #[test]
+    fn line_pixels_are_those_half_covered() {
+        // Solid colour luma 200: a pixel at 120 is a line pixel, one at 80 is not.
+        let image = [120u8, 120, 120, 255, 80, 80, 80, 255];
+        assert_eq!(line_mask(&image, 200.0), vec![true, false]);
+    }
+
+    #[test]
+    fn par_map_keeps_the_order() {
+        let items: Vec<usize> = (0..100).collect();
+        assert_eq!(
+            par_map(&items, 3, |&i| i * 2),
+            (0..100).map(|i| i * 2).collect::<Vec<_>>()
+        );
+    }
+}

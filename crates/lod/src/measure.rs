@@ -71,13 +71,10 @@ pub struct UvIndex<'m> {
 const BUCKETS_PER_TRIANGLE: f64 = 2.0;
 
 impl<'m> UvIndex<'m> {
-    /// Indexes `mesh`, whose triangle `t` belongs to component `labels[t]`.
-    pub fn new(mesh: &'m SurfaceMesh, labels: Vec<u32>) -> Self {
-        assert_eq!(
-            labels.len(),
-            mesh.triangle_count(),
-            "one label per triangle"
-        );
+    /// Indexes `mesh`, whose triangle `t` belongs to component `labels[t]` (a
+    /// triangle without a label belongs to none: it is never found).
+    pub fn new(mesh: &'m SurfaceMesh, mut labels: Vec<u32>) -> Self {
+        labels.resize(mesh.triangle_count(), NONE);
         let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for t in mesh
             .texcoords
