@@ -19,8 +19,12 @@ fn shared_data() -> Option<PathBuf> {
 struct Scratch(PathBuf);
 
 impl Scratch {
+    /// Unique per call: tests run in parallel and several use the same tag.
     fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("strata-eclbin-{}-{tag}", std::process::id()));
+        static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("strata-eclbin-{}-{tag}-{n}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Scratch(dir)
