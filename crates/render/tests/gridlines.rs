@@ -62,34 +62,15 @@ fn scan(frame: &Frame, p: Vec2, t: Vec2, sigma: f32) -> Option<(f32, f32, f32)> 
         pos.push(k as f32 + 0.5);
         cov.push(c);
     }
-    let (peak_i, peak) = cov
-        .iter()
-        .copied()
-        .enumerate()
-        .fold((0, f32::MIN), |m, (i, c)| if c > m.1 { (i, c) } else { m });
-    let half = 0.5 - 1.5 / 255.0;
-    let crossing = |range: &mut dyn Iterator<Item = usize>| -> Option<f32> {
-        let mut prev = peak_i;
-        for i in range {
-            if cov[i] < half {
-                let f = (cov[prev] - half) / (cov[prev] - cov[i]);
-                return Some(pos[prev] + f * (pos[i] - pos[prev]));
-            }
-            prev = i;
-        }
-        None
-    };
-    match (
-        crossing(&mut (0..peak_i).rev()),
-        crossing(&mut (peak_i + 1..cov.len())),
-    ) {
-        (Some(lo), Some(hi)) if peak >= half => Some((
+    let (peak, edges) = support::half_coverage_edges(&pos, &cov);
+    match edges {
+        Some((lo, hi)) => Some((
             (hi - lo) * stretch,
             (0.5 * (lo + hi) - centre) * stretch,
             peak,
         )),
         // A gap: width 0, which every check rejects.
-        _ => Some((0.0, f32::NAN, peak)),
+        None => Some((0.0, f32::NAN, peak)),
     }
 }
 

@@ -138,34 +138,15 @@ fn measure_circle(
         if !on_surface {
             continue;
         }
-        let (peak_i, peak) = cov
-            .iter()
-            .copied()
-            .enumerate()
-            .fold((0, f32::MIN), |m, (i, c)| if c > m.1 { (i, c) } else { m });
-        let half = 0.5 - 1.5 / 255.0;
-        let crossing = |range: &mut dyn Iterator<Item = usize>| -> Option<f32> {
-            let mut prev = peak_i;
-            for i in range {
-                if cov[i] < half {
-                    let t = (cov[prev] - half) / (cov[prev] - cov[i]);
-                    return Some(pos[prev] + t * (pos[i] - pos[prev]));
-                }
-                prev = i;
-            }
-            None
-        };
-        let (width, offset) = match (
-            crossing(&mut (0..peak_i).rev()),
-            crossing(&mut (peak_i + 1..cov.len())),
-        ) {
-            (Some(lo), Some(hi)) if peak >= half => (
+        let (peak, edges) = support::half_coverage_edges(&pos, &cov);
+        let (width, offset) = match edges {
+            Some((lo, hi)) => (
                 (hi - lo) * stretch,
                 (0.5 * (lo + hi) - cross) * stretch * sign,
             ),
             // A gap (or a line wider than the scan): width 0, offset NaN, which every
             // check rejects.
-            _ => (0.0, f32::NAN),
+            None => (0.0, f32::NAN),
         };
         scans.push(Scan {
             offset,

@@ -439,35 +439,10 @@ fn scan_across(
         pos.push(q);
         cov.push(c);
     }
-    let (peak_i, peak) = cov
-        .iter()
-        .copied()
-        .enumerate()
-        .fold((0, f32::MIN), |m, (i, c)| if c > m.1 { (i, c) } else { m });
-    // Half-coverage crossings, walking out from the peak (see the module docs for
-    // the level).
-    let half = 0.5 - 1.5 / 255.0;
-    let cross = |range: &mut dyn Iterator<Item = usize>| -> Option<f32> {
-        let mut prev = peak_i;
-        for i in range {
-            if cov[i] < half {
-                let (c0, c1) = (cov[prev], cov[i]);
-                let t = (c0 - half) / (c0 - c1);
-                return Some(pos[prev] + t * (pos[i] - pos[prev]));
-            }
-            prev = i;
-        }
-        None
-    };
     // No crossing (a gap, or a line wider than the scan) reads as width 0 and offset
     // NaN, which every check rejects.
-    let (lo, hi) = match (
-        cross(&mut (0..peak_i).rev()),
-        cross(&mut (peak_i + 1..cov.len())),
-    ) {
-        (Some(lo), Some(hi)) if peak >= half => (lo, hi),
-        _ => (f32::NAN, f32::NAN),
-    };
+    let (peak, edges) = half_coverage_edges(&pos, &cov);
+    let (lo, hi) = edges.unwrap_or((f32::NAN, f32::NAN));
     let width = if lo.is_nan() {
         0.0
     } else {
@@ -615,4 +590,38 @@ impl fmt::Display for ImageDiff {
             self.tolerance
         )
     }
+}
+
+/// The peak coverage of a profile sampled at `pos`, and where the coverage crosses
+/// one half on either side of the peak (linear interpolation, walking out from the
+/// peak; the level sits 1.5/255 below a half so that 8-bit rounding of an exact half
+/// counts). `None` when a side never drops below the level or the peak never reaches
+/// it: a gap, or a line wider than the scan.
+pub fn half_coverage_edges(pos: &[f32], cov: &[f32]) -> (f32, Option<(f32, f32)>) {
+    let (peak_i, peak) = cov
+        .iter()
+        .copied()
+        .enumerate()
+        .fold((0, f32::MIN), |m, (i, c)| if c > m.1 { (i, c) } else { m });
+    let half = 0.5 - 1.5 / 255.0;
+    let cross = |range: &mut dyn Iterator<Item = usize>| -> Option<f32> {
+        let mut prev = peak_i;
+        for i in range {
+            if cov[i] < half {
+                let (c0, c1) = (cov[prev], cov[i]);
+                let t = (c0 - half) / (c0 - c1);
+                return Some(pos[prev] + t * (pos[i] - pos[prev]));
+            }
+            prev = i;
+        }
+        None
+    };
+    let edges = match (
+        cross(&mut (0..peak_i).rev()),
+        cross(&mut (peak_i + 1..cov.len())),
+    ) {
+        (Some(lo), Some(hi)) if peak >= half => Some((lo, hi)),
+        _ => None,
+    };
+    (peak, edges)
 }
