@@ -67,6 +67,13 @@ enum BenchCommand {
         /// One 1M-triangle model and a few frames (under two minutes), not the full run.
         #[arg(long)]
         quick: bool,
+        /// Only these mesh sizes, in this order (0.1m, 0.4m, 1m, 4m; default: all).
+        #[arg(long, value_delimiter = ',')]
+        sizes: Vec<String>,
+        /// Only these mesh kinds, in this order (sphere, terrain, reservoir; default:
+        /// all).
+        #[arg(long, value_delimiter = ',')]
+        kinds: Vec<String>,
     },
     /// Line coverage of every wireframe technique against the exact coverage of the
     /// visible edges (16 x 16 samples per pixel): RMS error, missing and extra pixels.
@@ -98,7 +105,12 @@ fn main() -> ExitCode {
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
         Command::Bench(BenchCommand::Lod { json, data, quick }) => bench_lod(json, data, quick),
         Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
-        Command::Bench(BenchCommand::Wire { json, quick }) => bench_wire(json, quick),
+        Command::Bench(BenchCommand::Wire {
+            json,
+            quick,
+            sizes,
+            kinds,
+        }) => bench_wire(json, quick, &sizes, &kinds),
         Command::Bench(BenchCommand::Quality { json, images }) => bench_quality(json, images),
     };
     match result {
@@ -134,9 +146,10 @@ fn bench_io(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn bench_wire(json: bool, quick: bool) -> anyhow::Result<()> {
-    use strata::bench::wire;
-    let report = wire::run(if quick { &wire::QUICK } else { &wire::FULL })?;
+fn bench_wire(json: bool, quick: bool, sizes: &[String], kinds: &[String]) -> anyhow::Result<()> {
+    use strata::bench::wire::{self, Plan};
+    let plan = if quick { Plan::quick() } else { Plan::full() };
+    let report = wire::run(&plan.select(sizes, kinds)?)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

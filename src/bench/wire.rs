@@ -106,35 +106,79 @@ fn variants(kind: Kind) -> Vec<Variant> {
 }
 
 /// How much to run.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Plan {
-    pub sizes: &'static [(usize, &'static str)],
-    pub kinds: &'static [Kind],
+    pub sizes: Vec<(usize, &'static str)>,
+    pub kinds: Vec<Kind>,
     pub warmup: usize,
     pub frames: usize,
 }
 
-/// The full benchmark: every size and kind, 60 timed frames after 3 of warm-up.
-pub const FULL: Plan = Plan {
-    sizes: &[
-        (100_000, "0.1m"),
-        (400_000, "0.4m"),
-        (1_000_000, "1m"),
-        (4_000_000, "4m"),
-    ],
-    kinds: &Kind::ALL,
-    warmup: 3,
-    frames: 60,
-};
+/// The sizes of the full benchmark, by label.
+const SIZES: [(usize, &str); 4] = [
+    (100_000, "0.1m"),
+    (400_000, "0.4m"),
+    (1_000_000, "1m"),
+    (4_000_000, "4m"),
+];
 
-/// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up (under two
-/// minutes on the development machine's CPU rasterizer).
-pub const QUICK: Plan = Plan {
-    sizes: &[(1_000_000, "1m")],
-    kinds: &[Kind::Reservoir],
-    warmup: 1,
-    frames: 4,
-};
+impl Plan {
+    /// The full benchmark: every size and kind, 60 timed frames after 3 of warm-up.
+    pub fn full() -> Plan {
+        Plan {
+            sizes: SIZES.to_vec(),
+            kinds: Kind::ALL.to_vec(),
+            warmup: 3,
+            frames: 60,
+        }
+    }
+
+    /// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up (under two
+    /// minutes on the development machine's CPU rasterizer).
+    pub fn quick() -> Plan {
+        Plan {
+            sizes: vec![SIZES[2]],
+            kinds: vec![Kind::Reservoir],
+            warmup: 1,
+            frames: 4,
+        }
+    }
+
+    /// Keeps only the sizes labelled in `sizes` and the kinds named in `kinds`, in the
+    /// order given (empty: all), so that a long run can be split over several calls.
+    pub fn select(mut self, sizes: &[String], kinds: &[String]) -> Result<Plan> {
+        if !sizes.is_empty() {
+            self.sizes = sizes
+                .iter()
+                .map(|label| {
+                    SIZES
+                        .iter()
+                        .find(|(_, l)| l == label)
+                        .copied()
+                        .with_context(|| {
+                            format!("unknown mesh size {label:?} (known: 0.1m, 0.4m, 1m, 4m)")
+                        })
+                })
+                .collect::<Result<_>>()?;
+        }
+        if !kinds.is_empty() {
+            self.kinds = kinds
+                .iter()
+                .map(|name| {
+                    Kind::ALL
+                        .into_iter()
+                        .find(|k| k.name() == name)
+                        .with_context(|| {
+                            format!(
+                                "unknown mesh kind {name:?} (known: sphere, terrain, reservoir)"
+                            )
+                        })
+                })
+                .collect::<Result<_>>()?;
+        }
+        Ok(self)
+    }
+}
 
 /// Runs `plan`, reporting progress on stderr.
 pub fn run(plan: &Plan) -> Result<WireReport> {
@@ -150,8 +194,8 @@ pub fn run(plan: &Plan) -> Result<WireReport> {
         }
     );
     let mut results = Vec::new();
-    for &(size, label) in plan.sizes {
-        for &kind in plan.kinds {
+    for &(size, label) in &plan.sizes {
+        for &kind in &plan.kinds {
             let started = Instant::now();
             let bench = meshes::make(kind, size, label)?;
             let timed = time_mesh(&mut renderer, &timer, &bench, plan)?;
@@ -324,5 +368,21 @@ mod tests {
         assert!(has(Kind::Terrain) && has(Kind::Reservoir));
         assert_eq!(variants(Kind::Sphere)[0].name(), "none");
         assert_eq!(variants(Kind::Sphere)[1].name(), "none-analytic");
+    }
+
+    #[test]
+    fn a_plan_keeps_the_selected_sizes_and_kinds_in_the_order_given() {
+        let names = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let plan = Plan::full()
+            .select(&names(&["4m", "1m"]), &names(&["reservoir"]))
+            .unwrap();
+        assert_eq!(plan.sizes, vec![(4_000_000, "4m"), (1_000_000, "1m")]);
+        assert_eq!(plan.kinds, vec![Kind::Reservoir]);
+        assert_eq!(plan.frames, 60);
+        let all = Plan::full().select(&[], &[]).unwrap();
+        assert_eq!((all.sizes.len(), all.kinds.len()), (4, 3));
+        let err = Plan::full().select(&names(&["2m"]), &[]).unwrap_err();
+        assert!(format!("{err}").contains("\"2m\""), "{err}");
+        assert!(Plan::full().select(&[], &names(&["cube"])).is_err());
     }
 }
