@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 
 use anyhow::Result;
-use strata_grid::synth::{SynthParams, generate};
+use strata_grid::synth::{ICOSAHEDRON_CORNERS, ICOSAHEDRON_FACES, SynthParams, generate};
 use strata_grid::{Face, SurfaceMesh, layer_surfaces};
 
 /// The kinds of benchmark mesh.
@@ -87,49 +87,12 @@ fn relief(x: f32, y: f32, z: f32) -> f32 {
 /// onto a sphere of radius 100 and displaced by up to 6 % along the radius.
 pub fn sphere(triangles: usize) -> SurfaceMesh {
     let k = ((triangles as f64 / 20.0).sqrt().round() as usize).max(1);
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let corners: [[f32; 3]; 12] = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ];
-    let faces: [[usize; 3]; 20] = [
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
     let mut mesh = SurfaceMesh::default();
     // A point of a face's grid is shared with neighbouring faces on their common edge
     // or corner: it is keyed by its icosahedron corners and integer weights.
-    let mut index: HashMap<[(usize, usize); 3], u32> = HashMap::new();
-    let mut vertex = |face: [usize; 3], w: [usize; 3], mesh: &mut SurfaceMesh| -> u32 {
-        let mut key = [(usize::MAX, 0); 3];
+    let mut index: HashMap<[(u32, usize); 3], u32> = HashMap::new();
+    let mut vertex = |face: [u32; 3], w: [usize; 3], mesh: &mut SurfaceMesh| -> u32 {
+        let mut key = [(u32::MAX, 0); 3];
         for c in 0..3 {
             if w[c] > 0 {
                 key[c] = (face[c], w[c]);
@@ -139,7 +102,7 @@ pub fn sphere(triangles: usize) -> SurfaceMesh {
         *index.entry(key).or_insert_with(|| {
             let p: [f32; 3] = std::array::from_fn(|a| {
                 (0..3)
-                    .map(|c| corners[face[c]][a] * w[c] as f32)
+                    .map(|c| ICOSAHEDRON_CORNERS[face[c] as usize][a] * w[c] as f32)
                     .sum::<f32>()
             });
             let len = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
@@ -150,7 +113,7 @@ pub fn sphere(triangles: usize) -> SurfaceMesh {
             (mesh.positions.len() - 1) as u32
         })
     };
-    for face in faces {
+    for face in ICOSAHEDRON_FACES {
         // Row i from corner 0 towards the edge 1-2, j along the row.
         let at = |i: usize, j: usize| [k - i, i - j, j];
         for i in 0..k {

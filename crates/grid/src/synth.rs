@@ -10,6 +10,52 @@
 use ndarray::{Array3, Axis};
 use rayon::prelude::*;
 
+/// The golden ratio, the icosahedron's corner coordinate.
+const PHI: f32 = 1.618_034;
+
+/// Corners of a regular icosahedron centred on the origin (not unit length): the seed
+/// of the sphere meshes that stand for the papers' scanned models in tests and
+/// benchmarks.
+pub const ICOSAHEDRON_CORNERS: [[f32; 3]; 12] = [
+    [-1.0, PHI, 0.0],
+    [1.0, PHI, 0.0],
+    [-1.0, -PHI, 0.0],
+    [1.0, -PHI, 0.0],
+    [0.0, -1.0, PHI],
+    [0.0, 1.0, PHI],
+    [0.0, -1.0, -PHI],
+    [0.0, 1.0, -PHI],
+    [PHI, 0.0, -1.0],
+    [PHI, 0.0, 1.0],
+    [-PHI, 0.0, -1.0],
+    [-PHI, 0.0, 1.0],
+];
+
+/// The icosahedron's faces, indices into [`ICOSAHEDRON_CORNERS`], counter-clockwise
+/// seen from outside.
+pub const ICOSAHEDRON_FACES: [[u32; 3]; 20] = [
+    [0, 11, 5],
+    [0, 5, 1],
+    [0, 1, 7],
+    [0, 7, 10],
+    [0, 10, 11],
+    [1, 5, 9],
+    [5, 11, 4],
+    [11, 10, 2],
+    [10, 7, 6],
+    [7, 1, 8],
+    [3, 9, 4],
+    [3, 4, 2],
+    [3, 2, 6],
+    [3, 6, 8],
+    [3, 8, 9],
+    [4, 9, 5],
+    [2, 4, 11],
+    [6, 2, 10],
+    [8, 6, 7],
+    [9, 8, 1],
+];
+
 use crate::{CornerPointGrid, Dims, Result, Units};
 
 /// What to generate.

@@ -28,4 +28,4 @@ pub use file::{
     BuildReport, Indices, LayerRecord, LodFile, NodeRecord, Vertex, ViewPoint, build_file,
 };
 pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
-pub use reference::{NONE, Reference, SurfacePoint};
+pub use reference::{NONE, Reference, SurfacePoint, closest_on_triangle};

@@ -222,7 +222,7 @@ impl<'m> Reference<'m> {
 
 /// Squared distance from `p` to triangle `t` and the barycentric coordinates of the
 /// closest point (Ericson, Real-Time Collision Detection, 5.1.5).
-pub(crate) fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
+pub fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
     let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let [a, b, c] = t;

@@ -7,7 +7,7 @@ mod common;
 use common::{faulted_grid, layer, shared_data, topology};
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
 use strata_lod::measure::{UvIndex, components, deviation};
-use strata_lod::{Decimated, NEW, Options, Placement, decimate};
+use strata_lod::{Decimated, NEW, Options, Placement, closest_on_triangle, decimate};
 
 /// Position tolerance for "on the original surface": f32 rounding of coordinates of a
 /// few kilometres is about 1e-4 m.
@@ -28,46 +28,6 @@ fn decimate_with(mesh: &SurfaceMesh, fraction: f64, placement: Placement) -> Dec
 
 fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
     decimate_with(mesh, fraction, Placement::Surface)
-}
-
-/// Closest point of triangle `abc` to `p`, with its barycentric coordinates.
-fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-    // Ericson, Real-Time Collision Detection, 5.1.5.
-    let (a, b, c) = (t[0], t[1], t[2]);
-    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
-    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
-    let w = if d1 <= 0.0 && d2 <= 0.0 {
-        [1.0, 0.0, 0.0]
-    } else {
-        let bp = sub(p, b);
-        let (d3, d4) = (dot(ab, bp), dot(ac, bp));
-        let cp = sub(p, c);
-        let (d5, d6) = (dot(ab, cp), dot(ac, cp));
-        let (va, vb, vc) = (d3 * d6 - d5 * d4, d5 * d2 - d1 * d6, d1 * d4 - d3 * d2);
-        if d3 >= 0.0 && d4 <= d3 {
-            [0.0, 1.0, 0.0]
-        } else if d6 >= 0.0 && d5 <= d6 {
-            [0.0, 0.0, 1.0]
-        } else if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-            let v = d1 / (d1 - d3);
-            [1.0 - v, v, 0.0]
-        } else if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-            let w = d2 / (d2 - d6);
-            [1.0 - w, 0.0, w]
-        } else if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-            let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-            [0.0, 1.0 - w, w]
-        } else {
-            let denom = 1.0 / (va + vb + vc);
-            let (v, w) = (vb * denom, vc * denom);
-            [1.0 - v - w, v, w]
-        }
-    };
-    let q: [f64; 3] = std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]);
-    let d = sub(q, p);
-    (dot(d, d).sqrt(), w)
 }
 
 /// Every check of the module on one decimation; returns the number of new vertices.
@@ -110,8 +70,8 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, placement: Placement) -
             .zip(&labels)
             .filter(|&(_, &l)| l == label)
             .map(|(t, _)| {
-                let (d, w) = closest_on_triangle(p, tri(t));
-                (d, t, w)
+                let (d2, w) = closest_on_triangle(p, tri(t));
+                (d2.sqrt(), t, w)
             })
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .unwrap();

@@ -9,6 +9,7 @@ mod support;
 use std::collections::HashMap;
 
 use strata_grid::SurfaceMesh;
+use strata_grid::synth::{ICOSAHEDRON_CORNERS, ICOSAHEDRON_FACES};
 use strata_render::glam::{DVec2, Vec2, Vec3};
 use strata_render::wire::labels::{Labelling, label_vertices};
 use strata_render::{Coverage, Renderer, View, WireMode};
@@ -309,46 +310,11 @@ fn random_terrain(n: usize, seed: u64) -> SurfaceMesh {
 
 /// An icosahedron subdivided `levels` times, on the unit sphere.
 fn icosphere(levels: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let t = (1.0 + 5f32.sqrt()) / 2.0;
-    let mut v: Vec<Vec3> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .iter()
-    .map(|p| Vec3::from_array(*p).normalize())
-    .collect();
-    let mut f: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
+    let mut v: Vec<Vec3> = ICOSAHEDRON_CORNERS
+        .iter()
+        .map(|p| Vec3::from_array(*p).normalize())
+        .collect();
+    let mut f = ICOSAHEDRON_FACES.to_vec();
     for _ in 0..levels {
         let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
         let mut next = Vec::with_capacity(4 * f.len());
