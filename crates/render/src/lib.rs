@@ -25,6 +25,8 @@ pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
 pub use renderer::{Renderer, View};
 pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
 pub use timing::{FrameTime, FrameTimer};
+/// The graphics crate of the public API (`Gpu` holds its device and adapter info).
+pub use wgpu;
 pub use wire::{Attenuation, WireMode};
 
 /// Writes pixels as a PNG file.
