@@ -308,7 +308,7 @@ fn cpu_seconds() -> f64 {
 }
 
 /// Line mask of an isolation frame: pixels the lines cover at least half of.
-fn line_mask(image: &[u8], line_luma: f64) -> Vec<bool> {
+pub fn line_mask(image: &[u8], line_luma: f64) -> Vec<bool> {
     image
         .chunks_exact(4)
         .map(|p| {
@@ -318,9 +318,11 @@ fn line_mask(image: &[u8], line_luma: f64) -> Vec<bool> {
         .collect()
 }
 
-/// Pixels of `a` within `tol` pixels (Chebyshev) of a pixel of `b`.
-fn matched(a: &[bool], b: &[bool], tol: i64) -> usize {
-    let (w, h) = (i64::from(WIDTH), i64::from(HEIGHT));
+/// Pixels of `a` within `tol` pixels (Chebyshev) of a pixel of `b`, both masks of
+/// frames `width` pixels wide.
+fn matched(a: &[bool], b: &[bool], width: usize, tol: i64) -> usize {
+    let w = width.max(1) as i64;
+    let h = a.len().min(b.len()) as i64 / w;
     (0..h)
         .map(|y| {
             (0..w)
@@ -338,8 +340,9 @@ fn matched(a: &[bool], b: &[bool], tol: i64) -> usize {
         .sum()
 }
 
-/// Precision, recall and F1 of the line pixels `got` against `want`.
-fn f1(got: &[bool], want: &[bool], tol: i64) -> (f64, f64, f64) {
+/// Precision, recall and F1 of the line pixels `got` against `want` (masks of frames
+/// `width` pixels wide), a pixel matching one of the other within `tol` pixels.
+pub fn f1(got: &[bool], want: &[bool], width: usize, tol: i64) -> (f64, f64, f64) {
     let (ng, nw) = (
         got.iter().filter(|&&p| p).count(),
         want.iter().filter(|&&p| p).count(),
@@ -347,8 +350,8 @@ fn f1(got: &[bool], want: &[bool], tol: i64) -> (f64, f64, f64) {
     if ng == 0 || nw == 0 {
         return (0.0, 0.0, if ng == nw { 1.0 } else { 0.0 });
     }
-    let precision = matched(got, want, tol) as f64 / ng as f64;
-    let recall = matched(want, got, tol) as f64 / nw as f64;
+    let precision = matched(got, want, width, tol) as f64 / ng as f64;
+    let recall = matched(want, got, width, tol) as f64 / nw as f64;
     let f = if precision + recall > 0.0 {
         2.0 * precision * recall / (precision + recall)
     } else {
@@ -539,8 +542,8 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                         let want = &reference[v];
                         let (precision, recall, f, strict, rms) = match &frames {
                             Some(f) => {
-                                let (p, r, f1v) = f1(&f[v].lines, &want.lines, 1);
-                                let (_, _, s) = f1(&f[v].lines, &want.lines, 0);
+                                let (p, r, f1v) = f1(&f[v].lines, &want.lines, WIDTH as usize, 1);
+                                let (_, _, s) = f1(&f[v].lines, &want.lines, WIDTH as usize, 0);
                                 (p, r, f1v, s, rms_colour(&f[v].shaded, &want.shaded))
                             }
                             None => (0.0, 0.0, 0.0, 0.0, f64::NAN),
@@ -827,13 +830,14 @@ mod tests {
     fn f1_matches_lines_within_the_tolerance() {
         let want = frame(&(100..200).map(|x| (x, 50)).collect::<Vec<_>>());
         let moved = frame(&(100..200).map(|x| (x, 51)).collect::<Vec<_>>());
-        assert_eq!(f1(&want, &want, 0), (1.0, 1.0, 1.0));
+        let w = WIDTH as usize;
+        assert_eq!(f1(&want, &want, w, 0), (1.0, 1.0, 1.0));
         // One pixel off: all matched within one pixel, none exactly.
-        assert_eq!(f1(&moved, &want, 1).2, 1.0);
-        assert_eq!(f1(&moved, &want, 0).2, 0.0);
+        assert_eq!(f1(&moved, &want, w, 1).2, 1.0);
+        assert_eq!(f1(&moved, &want, w, 0).2, 0.0);
         // Half the line missing: precision 1, recall 1/2.
         let half = frame(&(100..150).map(|x| (x, 50)).collect::<Vec<_>>());
-        let (p, r, f) = f1(&half, &want, 1);
+        let (p, r, f) = f1(&half, &want, w, 1);
         assert!((p - 1.0).abs() < 1e-12 && (r - 0.5).abs() < 0.02 && (f - 2.0 / 3.0).abs() < 0.02);
     }
 
