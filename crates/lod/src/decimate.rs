@@ -386,6 +386,9 @@ struct Collapser<'a> {
     busy: Vec<bool>,
     /// Per vertex, in a round of local minima, the cheapest open candidate at it.
     cheapest: Vec<u32>,
+    /// Rounds of local minima per pass: [`LOCAL_ROUNDS`] on meshes of more than
+    /// [`LOCAL_VERTICES`], else none.
+    rounds: usize,
     // Per triangle.
     tris: Vec<[u32; 3]>,
     uv_sign: Vec<i8>,
@@ -581,6 +584,7 @@ impl<'a> Collapser<'a> {
             flags,
             busy: vec![false; n],
             cheapest: vec![u32::MAX; n],
+            rounds: if n > LOCAL_VERTICES { LOCAL_ROUNDS } else { 0 },
             tris: mesh.triangles.clone(),
             uv_sign,
             live: mesh.triangle_count(),
@@ -1061,12 +1065,7 @@ impl<'a> Collapser<'a> {
         self.candidates.retain(|c| f64::from(c.cost) <= bound);
         let before = self.collapses;
         let mut open: Vec<u32> = (0..self.candidates.len() as u32).collect();
-        let rounds = if self.flags.len() > LOCAL_VERTICES {
-            LOCAL_ROUNDS
-        } else {
-            0
-        };
-        for _ in 0..rounds {
+        for _ in 0..self.rounds {
             if open.is_empty() || self.live <= target {
                 break;
             }
@@ -1266,6 +1265,46 @@ mod tests {
         for (v, &s) in out.source.iter().enumerate() {
             if s != NEW {
                 assert_eq!(out.mesh.texcoords[v], mesh.texcoords[s as usize]);
+            }
+        }
+    }
+
+    #[test]
+    fn rounds_of_local_minima_decimate_as_well_as_cost_order() {
+        // A bumpy grid, small enough for a unit test: the rounds are forced on.
+        let mesh = SurfaceMesh::structured(80, 80, |i, j| {
+            let (x, y) = (i as f32, j as f32);
+            [10.0 * x, 10.0 * y, 8.0 * (0.3 * x).sin() * (0.23 * y).cos()]
+        });
+        let options = Options::fraction(&mesh, 0.1);
+        let run = |rounds: usize| {
+            let reference = Reference::new(&mesh).unwrap();
+            let home = reference.vertex_triangle.clone();
+            let mut collapser =
+                Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
+            collapser.rounds = rounds;
+            collapser.run().unwrap()
+        };
+        let (by_cost, local) = (run(0), run(LOCAL_ROUNDS));
+        for out in [&by_cost, &local] {
+            out.mesh.validate().unwrap();
+            assert!(out.mesh.triangle_count() <= options.target_triangles);
+        }
+        assert_ne!(
+            by_cost.mesh.triangles, local.mesh.triangles,
+            "rounds not taken"
+        );
+        assert!(
+            local.error <= 1.25 * by_cost.error,
+            "error {} with rounds, {} by cost",
+            local.error,
+            by_cost.error
+        );
+        // Every surviving input vertex kept its attributes.
+        for (v, &s) in local.source.iter().enumerate() {
+            if s != NEW {
+                assert_eq!(local.mesh.texcoords[v], mesh.texcoords[s as usize]);
+                assert_eq!(local.mesh.positions[v], mesh.positions[s as usize]);
             }
         }
     }
