@@ -245,6 +245,15 @@ fn rank(c: &Candidate, i: u32) -> (u32, u32) {
 /// pass is linear in the mesh; the target is usually reached in under twenty).
 const MAX_PASSES: usize = 200;
 
+/// Buffers of a pass (see `Collapser::pass`).
+#[derive(Default)]
+struct Scratch {
+    costs: Vec<u32>,
+    open: Vec<u32>,
+    minima: Vec<u32>,
+    ranks: Vec<(u32, u32)>,
+}
+
 /// A candidate collapse of a pass.
 #[derive(Clone, Copy, Debug)]
 struct Candidate {
@@ -389,6 +398,9 @@ struct Collapser<'a> {
     /// Rounds of local minima per pass: [`LOCAL_ROUNDS`] on meshes of more than
     /// [`LOCAL_VERTICES`], else none.
     rounds: usize,
+    /// Buffers of a pass, kept between passes: fresh ones of this size would be
+    /// page-faulted in every pass.
+    scratch: Scratch,
     // Per triangle.
     tris: Vec<[u32; 3]>,
     uv_sign: Vec<i8>,
@@ -585,6 +597,7 @@ impl<'a> Collapser<'a> {
             busy: vec![false; n],
             cheapest: vec![u32::MAX; n],
             rounds: if n > LOCAL_VERTICES { LOCAL_ROUNDS } else { 0 },
+            scratch: Scratch::default(),
             tris: mesh.triangles.clone(),
             uv_sign,
             live: mesh.triangle_count(),
@@ -1057,14 +1070,19 @@ impl<'a> Collapser<'a> {
         let goal = (self.live - target).div_ceil(2);
         let mut bound = max_cost;
         if goal < self.candidates.len() && !relax {
-            let mut costs: Vec<u32> = self.candidates.iter().map(|c| c.cost.to_bits()).collect();
+            let mut costs = std::mem::take(&mut self.scratch.costs);
+            costs.clear();
+            costs.extend(self.candidates.iter().map(|c| c.cost.to_bits()));
             let (_, nth, _) = costs.select_nth_unstable(goal);
             let nth = f64::from(f32::from_bits(*nth));
             bound = bound.min((PASS_ERROR_BOUND * nth).max(self.tie));
+            self.scratch.costs = costs;
         }
         self.candidates.retain(|c| f64::from(c.cost) <= bound);
         let before = self.collapses;
-        let mut open: Vec<u32> = (0..self.candidates.len() as u32).collect();
+        let mut open = std::mem::take(&mut self.scratch.open);
+        open.clear();
+        open.extend(0..self.candidates.len() as u32);
         for _ in 0..self.rounds {
             if open.is_empty() || self.live <= target {
                 break;
@@ -1076,7 +1094,7 @@ impl<'a> Collapser<'a> {
             let c = &self.candidates[i as usize];
             (c.cost.to_bits(), c.a, c.b)
         });
-        for i in open {
+        for &i in &open {
             if self.live <= target {
                 break;
             }
@@ -1085,6 +1103,7 @@ impl<'a> Collapser<'a> {
                 self.try_collapse(c.a, c.b, c.choice, bound);
             }
         }
+        self.scratch.open = open;
         self.timings.collapse += gathered.elapsed().as_secs_f64();
         self.collapses - before
     }
@@ -1119,19 +1138,21 @@ impl<'a> Collapser<'a> {
             let c = &s.candidates[i as usize];
             s.cheapest[c.a as usize] == i && s.cheapest[c.b as usize] == i
         };
-        let mut minima: Vec<u32> = open
-            .iter()
-            .copied()
-            .filter(|&i| is_minimum(self, i))
-            .collect();
+        let mut minima = std::mem::take(&mut self.scratch.minima);
+        minima.clear();
+        minima.extend(open.iter().copied().filter(|&i| is_minimum(self, i)));
         let needed = (self.live - target).div_ceil(2);
         if minima.len() > needed {
-            let mut ranks: Vec<(u32, u32)> = minima
-                .iter()
-                .map(|&i| rank(&self.candidates[i as usize], i))
-                .collect();
+            let mut ranks = std::mem::take(&mut self.scratch.ranks);
+            ranks.clear();
+            ranks.extend(
+                minima
+                    .iter()
+                    .map(|&i| rank(&self.candidates[i as usize], i)),
+            );
             let limit = *ranks.select_nth_unstable(needed).1;
             minima.retain(|&i| rank(&self.candidates[i as usize], i) <= limit);
+            self.scratch.ranks = ranks;
         }
         for &i in &minima {
             if self.live <= target {
@@ -1146,6 +1167,7 @@ impl<'a> Collapser<'a> {
             let c = &self.candidates[i as usize];
             !(self.cheapest[c.a as usize] == TRIED && self.cheapest[c.b as usize] == i)
         });
+        self.scratch.minima = minima;
     }
 
     /// Collapses `a b` as `choice` says (or onto an endpoint when the new point is
