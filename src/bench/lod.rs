@@ -17,6 +17,11 @@
 //!   by under a pixel is where it was), and strictly; RMS colour difference of the
 //!   shaded frames (0-255 per channel, surface coloured by PORO when the model has it).
 //!
+//! Outlines: per real model, the corners of its layer outlines and the fewest
+//! triangles that keep them all (`strata_lod::measure::outline_bound`), against the
+//! goal's 10 % budget: where the budget is smaller, every simplifier must cut outline
+//! corners, and the line-pixel F1 drops for a reason no simplifier can help.
+//!
 //! Ours runs with both placements of new vertices: `strata` (on the original surface,
 //! the default) and `strata_optimal` (at the quadric optimum off it, with the texture
 //! coordinates of the nearest original point).
@@ -37,7 +42,7 @@ use serde::Serialize;
 use strata_grid::synth::{SynthParams, generate};
 use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface};
 use strata_lod::baseline::{Simplifier, simplify};
-use strata_lod::measure::deviation;
+use strata_lod::measure::{OutlineBound, deviation, outline_bound};
 use strata_lod::{Decimated, Options, Placement, decimate};
 use strata_render::glam::Vec3;
 use strata_render::{Camera, Renderer, Style, View, WireMode};
@@ -81,12 +86,30 @@ const GOAL_RATE: f64 = 1e6;
 pub struct LodReport {
     pub adapter: String,
     pub cores: usize,
+    pub outlines: Vec<Outline>,
     pub fidelity: Vec<Fidelity>,
     pub speed: Vec<Speed>,
     pub goals: Vec<Goal>,
     /// Peak resident memory of the run (VmHWM), MB.
     pub peak_memory_mb: f64,
     pub notes: Vec<String>,
+}
+
+/// What keeping a real model's layer outlines costs, against the goal's budget.
+#[derive(Debug, Serialize)]
+pub struct Outline {
+    pub model: String,
+    pub triangles: usize,
+    /// Corners of the outlines of all layer surfaces (`strata_lod::measure::outline_bound`).
+    pub corners: usize,
+    /// The fewest triangles that keep every corner, summed over the layer surfaces.
+    pub min_triangles: usize,
+    /// Triangles at the goal's budget (10 %), summed as the surfaces are decimated.
+    pub goal_budget_triangles: usize,
+    /// Layer surfaces whose 10 % budget is below their own `min_triangles`: there any
+    /// simplifier must cut outline corners.
+    pub layers_below: usize,
+    pub layers: usize,
 }
 
 /// One model, simplifier and budget.
@@ -484,7 +507,38 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
         ));
     }
 
+    let mut outlines = Vec::new();
     for (label, layers) in &models {
+        let bounds: Vec<(usize, OutlineBound)> = layers
+            .iter()
+            .map(|m| {
+                let budget = (m.triangle_count() as f64 * GOAL_BUDGET / 100.0).round() as usize;
+                (budget, outline_bound(m))
+            })
+            .collect();
+        let outline = Outline {
+            model: label.clone(),
+            triangles: layers.iter().map(SurfaceMesh::triangle_count).sum(),
+            corners: bounds.iter().map(|(_, b)| b.corners).sum(),
+            min_triangles: bounds.iter().map(|(_, b)| b.min_triangles).sum(),
+            goal_budget_triangles: bounds.iter().map(|(n, _)| n).sum(),
+            layers_below: bounds.iter().filter(|(n, b)| *n < b.min_triangles).count(),
+            layers: layers.len(),
+        };
+        if outline.layers_below > 0 {
+            notes.push(format!(
+                "{label}: at {GOAL_BUDGET} % the budget of {} of its {} layer surfaces is below the \
+                 triangles that keep their outline corners ({} triangles for {} corners in all, \
+                 budget {}): there every simplifier cuts corners of the outline and moves \
+                 those lines by a cell",
+                outline.layers_below,
+                outline.layers,
+                outline.min_triangles,
+                outline.corners,
+                outline.goal_budget_triangles
+            ));
+        }
+        outlines.push(outline);
         let origin = layers.first().map_or([0.0; 3], |m| m.origin);
         let original = append_all(layers, origin);
         let Some(scene) = Scene::new(&original, config) else {
@@ -669,6 +723,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
     Ok(LodReport {
         adapter: renderer.gpu.describe(),
         cores,
+        outlines,
         fidelity,
         speed,
         goals,
@@ -741,6 +796,23 @@ pub fn peak_memory_kb() -> Option<u64> {
 
 pub fn print_table(report: &LodReport) {
     println!("{} ({} cores)", report.adapter, report.cores);
+    println!(
+        "{:<12} {:>9} {:>8} {:>12} {:>12} {:>12}",
+        "model", "triangles", "corners", "keep them", "10 % budget", "layers below"
+    );
+    for o in &report.outlines {
+        println!(
+            "{:<12} {:>9} {:>8} {:>12} {:>12} {:>9}/{}",
+            o.model,
+            o.triangles,
+            o.corners,
+            o.min_triangles,
+            o.goal_budget_triangles,
+            o.layers_below,
+            o.layers
+        );
+    }
+    println!();
     println!(
         "{:<12} {:<20} {:>6} {:>9} {:>10} {:>10} {:>7} {:>7} {:>7} {:>7}",
         "model",

@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
 
-use crate::reference::{NONE, SurfacePoint, VertexTriangles, cross2};
+use crate::reference::{NONE, SurfacePoint, VertexTriangles, cross2, triangle_adjacency};
 
 /// Connected components of a mesh's triangles (through shared vertices), as one label
 /// per triangle, numbered in order of first appearance.
@@ -413,6 +413,70 @@ pub fn deviation(
     }
 }
 
+/// What keeping a surface's outline costs: its corners and the fewest triangles that
+/// can hold them all.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OutlineBound {
+    /// Outline vertices (on outer borders, holes and fault traces) where the outline
+    /// turns in texture space, or where it meets itself.
+    pub corners: usize,
+    /// A lower bound on the triangles of any simplification that keeps every corner:
+    /// a connected piece whose boundary has `c` vertices has at least `c - 2`
+    /// triangles (a disc; each hole would add two, not counted here), and every
+    /// piece at least one.
+    pub min_triangles: usize,
+}
+
+/// The [`OutlineBound`] of `mesh`. A reservoir layer's outline follows the cell
+/// edges of its active region, a staircase in (i, j): a budget below
+/// `min_triangles` must cut corners of it, moving those outline lines by a cell,
+/// whatever the simplifier.
+pub fn outline_bound(mesh: &SurfaceMesh) -> OutlineBound {
+    let n = mesh.vertex_count();
+    let vt = VertexTriangles::new(n, &mesh.triangles);
+    let adjacency = triangle_adjacency(&mesh.triangles, &vt);
+    // The outline neighbours of every vertex (edges with no single neighbour).
+    let mut ends = vec![[NONE; 2]; n];
+    let mut degree = vec![0usize; n];
+    for (tri, across) in mesh.triangles.iter().zip(&adjacency) {
+        for k in 0..3 {
+            if across[k] != NONE {
+                continue;
+            }
+            let (p, q) = (tri[(k + 1) % 3] as usize, tri[(k + 2) % 3] as usize);
+            for (v, w) in [(p, q), (q, p)] {
+                if degree[v] < 2 {
+                    ends[v][degree[v]] = w as u32;
+                }
+                degree[v] += 1;
+            }
+        }
+    }
+    let uv = |v: usize| mesh.texcoords[v].map(f64::from);
+    let is_corner = |v: usize| match degree[v] {
+        0 => false,
+        2 => {
+            let (a, b) = (uv(ends[v][0] as usize), uv(ends[v][1] as usize));
+            let p = uv(v);
+            let len = |x: [f64; 2]| ((x[0] - p[0]).powi(2) + (x[1] - p[1]).powi(2)).sqrt();
+            cross2(a, p, b).abs() > 1e-9 * len(a) * len(b)
+        }
+        _ => true,
+    };
+    let labels = components(mesh);
+    let pieces = labels.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
+    let mut corners = vec![0usize; pieces];
+    for v in (0..n).filter(|&v| is_corner(v)) {
+        if let Some(&t) = vt.of(v as u32).first() {
+            corners[labels[t as usize] as usize] += 1;
+        }
+    }
+    OutlineBound {
+        corners: corners.iter().sum(),
+        min_triangles: corners.iter().map(|&c| c.max(3) - 2).sum(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -451,5 +515,36 @@ mod tests {
         // Simplified as far as it goes, each quad keeps a triangle of its own.
         let d = decimate(&mesh, &Options::default()).unwrap();
         assert_eq!(components(&d.mesh), vec![0, 1]);
+    }
+    #[test]
+    fn outline_bound_counts_the_corners_of_borders_holes_and_steps() {
+        let flat = |i: usize, j: usize| [i as f32, j as f32, 0.0];
+        // A rectangle: 4 corners, 2 triangles.
+        let rect = SurfaceMesh::structured(6, 4, flat);
+        let b = outline_bound(&rect);
+        assert_eq!((b.corners, b.min_triangles), (4, 2));
+        // Without the cell (2, 2): a square hole adds 4 corners.
+        let mut holed = SurfaceMesh::structured(6, 6, flat);
+        let cell = 2 * 6 + 2;
+        holed.triangles.drain(2 * cell..2 * cell + 2);
+        assert_eq!(outline_bound(&holed).corners, 8);
+        // An L (the top-right 2 x 2 cells of 4 x 4 gone): 6 corners, at least 4
+        // triangles; a straight border vertex is no corner.
+        let mut l = SurfaceMesh::structured(4, 4, flat);
+        let gone = |t: usize| {
+            let (i, j) = ((t / 2) % 4, (t / 2) / 4);
+            i >= 2 && j >= 2
+        };
+        l.triangles = (0..l.triangles.len())
+            .filter(|&t| !gone(t))
+            .map(|t| l.triangles[t])
+            .collect();
+        let b = outline_bound(&l);
+        assert_eq!((b.corners, b.min_triangles), (6, 4));
+        // Two pieces: each pays for its own.
+        let mut two = SurfaceMesh::structured(3, 3, flat);
+        two.append(&SurfaceMesh::structured(2, 5, flat));
+        let b = outline_bound(&two);
+        assert_eq!((b.corners, b.min_triangles), (8, 4));
     }
 }
