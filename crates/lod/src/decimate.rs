@@ -231,9 +231,6 @@ const LOCAL_ROUNDS: usize = 4;
 /// of the extent by cost, 4.89e-3 with rounds) and is no slower there.
 const LOCAL_VERTICES: usize = 100_000;
 
-/// Marks, in `Collapser::cheapest`, the first end of a candidate tried in a round.
-const TRIED: u32 = u32::MAX - 1;
-
 /// Rank of candidate `i`: its cost, then, for equal costs (flat, affine regions), a
 /// scrambled index (a bijection of it): by the index itself a row of equal edges
 /// would yield one local minimum per round.
@@ -1160,12 +1157,17 @@ impl<'a> Collapser<'a> {
             }
             let c = self.candidates[i as usize];
             self.try_collapse(c.a, c.b, c.choice, bound);
-            // Tried: out of `open` (a failed one leaves its ends free for others).
-            self.cheapest[c.a as usize] = TRIED;
         }
+        // The minima leave `open` (a failed one leaves its ends free for the others):
+        // both lists are in gather order.
+        let mut tried = minima.iter().peekable();
         open.retain(|&i| {
-            let c = &self.candidates[i as usize];
-            !(self.cheapest[c.a as usize] == TRIED && self.cheapest[c.b as usize] == i)
+            if tried.peek() == Some(&&i) {
+                tried.next();
+                false
+            } else {
+                true
+            }
         });
         self.scratch.minima = minima;
     }
