@@ -174,16 +174,7 @@ pub fn simplify(
         }
         home.push(reference_triangle[v]);
     }
-    out.triangles = result
-        .chunks_exact(3)
-        .map(|t| {
-            [
-                remap[t[0] as usize],
-                remap[t[1] as usize],
-                remap[t[2] as usize],
-            ]
-        })
-        .collect();
+    out.triangles = remap_triangles(&result, &remap);
     Ok(Decimated {
         mesh: out,
         source,
@@ -192,6 +183,14 @@ pub fn simplify(
         collapses: 0,
         timings: Default::default(),
     })
+}
+
+/// Triangles of the flat index list `indices`, each index through `remap`.
+fn remap_triangles(indices: &[u32], remap: &[u32]) -> Vec<[u32; 3]> {
+    indices
+        .chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]].map(|v| remap[v as usize]))
+        .collect()
 }
 
 /// Length of the diagonal of the bounding box of `positions`.
@@ -230,16 +229,7 @@ pub fn optimize_order(mesh: &mut SurfaceMesh) -> Vec<u32> {
     if !mesh.scalars.is_empty() {
         permute_by(&mut mesh.scalars, &remap, next as usize);
     }
-    mesh.triangles = indices
-        .chunks_exact(3)
-        .map(|t| {
-            [
-                remap[t[0] as usize],
-                remap[t[1] as usize],
-                remap[t[2] as usize],
-            ]
-        })
-        .collect();
+    mesh.triangles = remap_triangles(&indices, &remap);
     mesh.cell_faces.clear();
     remap
 }

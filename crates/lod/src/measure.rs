@@ -15,7 +15,9 @@
 use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
 
-use crate::reference::{NONE, SurfacePoint, VertexTriangles, cross2, triangle_adjacency};
+use crate::reference::{
+    NONE, SurfacePoint, VertexTriangles, cross2, texture_barycentric, triangle_adjacency,
+};
 
 /// Connected components of a mesh's triangles (through shared vertices), as one label
 /// per triangle, numbered in order of first appearance.
@@ -153,17 +155,7 @@ impl<'m> UvIndex<'m> {
 
     /// Barycentric coordinates of `uv` in triangle `t` (texture space).
     fn barycentric(&self, t: u32, uv: [f64; 2]) -> Option<[f64; 3]> {
-        let c =
-            self.mesh.triangles[t as usize].map(|v| self.mesh.texcoords[v as usize].map(f64::from));
-        let area = cross2(c[0], c[1], c[2]);
-        if area == 0.0 || !area.is_finite() {
-            return None;
-        }
-        Some([
-            cross2(uv, c[1], c[2]) / area,
-            cross2(c[0], uv, c[2]) / area,
-            cross2(c[0], c[1], uv) / area,
-        ])
+        texture_barycentric(self.mesh, t, uv)
     }
 
     /// The points of component `label` with texture coordinates `uv` (up to rounding:

@@ -145,20 +145,7 @@ impl<'m> Reference<'m> {
     /// Barycentric coordinates of `uv` in triangle `t`, in texture space; `None` for
     /// a triangle of zero texture area.
     pub fn barycentric(&self, t: u32, uv: [f64; 2]) -> Option<[f64; 3]> {
-        let tri = self.mesh.triangles[t as usize];
-        let c = tri.map(|v| {
-            let p = self.mesh.texcoords[v as usize];
-            [f64::from(p[0]), f64::from(p[1])]
-        });
-        let area = cross2(c[0], c[1], c[2]);
-        if area == 0.0 || !area.is_finite() {
-            return None;
-        }
-        Some([
-            cross2(uv, c[1], c[2]) / area,
-            cross2(c[0], uv, c[2]) / area,
-            cross2(c[0], c[1], uv) / area,
-        ])
+        texture_barycentric(self.mesh, t, uv)
     }
 
     /// The point of texture coordinates `uv`, reached by walking from triangle `start`
@@ -256,6 +243,21 @@ pub fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
     let q: [f64; 3] = std::array::from_fn(|k| w[0] * a[k] + w[1] * b[k] + w[2] * c[k]);
     let d = sub(q, p);
     (dot(d, d), w)
+}
+
+/// Barycentric coordinates of `uv` in triangle `t` of `mesh`, in texture space;
+/// `None` for a triangle of zero texture area.
+pub(crate) fn texture_barycentric(mesh: &SurfaceMesh, t: u32, uv: [f64; 2]) -> Option<[f64; 3]> {
+    let c = mesh.triangles[t as usize].map(|v| mesh.texcoords[v as usize].map(f64::from));
+    let area = cross2(c[0], c[1], c[2]);
+    if area == 0.0 || !area.is_finite() {
+        return None;
+    }
+    Some([
+        cross2(uv, c[1], c[2]) / area,
+        cross2(c[0], uv, c[2]) / area,
+        cross2(c[0], c[1], uv) / area,
+    ])
 }
 
 /// Twice the signed area of the texture-space triangle `a b c`.
