@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
-use crate::wire::{COLOR_FORMAT, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext};
+use crate::wire::{DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, frame_target};
 use crate::{Error, Gpu, Isolines, Result};
 
 /// One contour line: points in the mesh's display frame.
@@ -189,11 +189,7 @@ impl ContourTechnique {
                 module: &module,
                 entry_point: Some("fs_contour"),
                 compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: COLOR_FORMAT,
-                    blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
+                targets: &[frame_target(Some(wgpu::BlendState::ALPHA_BLENDING))],
             }),
             multiview_mask: None,
             cache: None,

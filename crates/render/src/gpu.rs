@@ -103,4 +103,17 @@ impl Gpu {
             .map(|_| ())
             .map_err(|e| Error::Gpu(e.to_string()))
     }
+
+    /// Maps all of `buffer` (a `MAP_READ` readback buffer) for reading, waiting for
+    /// the GPU; read it with `get_mapped_range` and `unmap` it afterwards.
+    pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<()> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv()
+            .map_err(|e| Error::Gpu(e.to_string()))?
+            .map_err(|e| Error::Gpu(e.to_string()))
+    }
 }

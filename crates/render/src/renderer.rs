@@ -308,15 +308,8 @@ impl Renderer {
         draw.encode_prepass(&self.bind_group, &mut encoder);
         encoder.copy_buffer_to_buffer(&draw.adjusted, 0, &readback, 0, size);
         self.gpu.queue.submit([encoder.finish()]);
+        self.gpu.map_read(&readback)?;
         let slice = readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.gpu.wait()?;
-        rx.recv()
-            .map_err(|e| Error::Gpu(e.to_string()))?
-            .map_err(|e| Error::Gpu(e.to_string()))?;
         let values = bytemuck::cast_slice::<u8, f32>(
             &slice
                 .get_mapped_range()
@@ -527,15 +520,8 @@ impl Renderer {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(e.to_string()));
         }
+        self.gpu.map_read(&targets.readback)?;
         let slice = targets.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.gpu.wait()?;
-        rx.recv()
-            .map_err(|e| Error::Gpu(e.to_string()))?
-            .map_err(|e| Error::Gpu(e.to_string()))?;
         let (w, h, row) = (
             targets.width as usize,
             targets.height as usize,

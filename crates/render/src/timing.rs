@@ -149,15 +149,8 @@ impl FrameTimer {
             .submit([before.finish(), frame.finish(), after.finish()]);
         gpu.wait()?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        gpu.map_read(&q.readback)?;
         let slice = q.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        gpu.wait()?;
-        rx.recv()
-            .map_err(|e| Error::Gpu(e.to_string()))?
-            .map_err(|e| Error::Gpu(e.to_string()))?;
         let ticks: [u64; 2] = {
             let data = slice
                 .get_mapped_range()

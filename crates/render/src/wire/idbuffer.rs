@@ -25,10 +25,10 @@ use std::rc::Rc;
 use strata_grid::SurfaceMesh;
 
 use super::lines::{
-    EdgeTable, LazyPipelines, PassSpec, PulledVertices, bind_buffers, check_mesh, chunks,
-    frame_target, shader, storage, storage_layout, triangle_records,
+    EdgeTable, LazyPipelines, PassSpec, PulledVertices, bind_buffers, check_mesh, chunks, shader,
+    storage, storage_layout, triangle_records,
 };
-use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
+use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode, frame_target};
 use crate::{Gpu, HiddenLines, Result};
 
 /// Polygon ID plus one, and the polygon's depth bits.

@@ -18,7 +18,7 @@ use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
 use super::texture::scalar_at;
-use super::{COLOR_FORMAT, DEPTH_FORMAT, PipelineContext};
+use super::{DEPTH_FORMAT, PipelineContext, frame_target};
 use crate::{Error, Gpu, Result};
 
 /// "No vertex": the far side of an outline edge.
@@ -381,15 +381,6 @@ impl<K: Copy + Eq + Hash> LazyPipelines<K> {
             .or_insert_with(|| (self.make)(key, &self.device, &self.frame_layout))
             .clone()
     }
-}
-
-/// The frame's colour target with `blend`.
-pub(crate) fn frame_target(blend: Option<wgpu::BlendState>) -> Option<wgpu::ColorTargetState> {
-    Some(wgpu::ColorTargetState {
-        format: COLOR_FORMAT,
-        blend,
-        write_mask: wgpu::ColorWrites::ALL,
-    })
 }
 
 #[cfg(test)]

@@ -83,6 +83,15 @@ pub struct PipelineContext<'a> {
 
 /// Colour and depth formats of every frame.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// The frame's colour target with `blend`.
+pub(crate) fn frame_target(blend: Option<wgpu::BlendState>) -> Option<wgpu::ColorTargetState> {
+    Some(wgpu::ColorTargetState {
+        format: COLOR_FORMAT,
+        blend,
+        write_mask: wgpu::ColorWrites::ALL,
+    })
+}
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The targets and shared bindings of the frame being drawn.
@@ -265,11 +274,7 @@ fn pipeline_with(
             module,
             entry_point: Some(fs),
             compilation_options: options,
-            targets: &[Some(wgpu::ColorTargetState {
-                format: COLOR_FORMAT,
-                blend: Some(wgpu::BlendState::ALPHA_BLENDING),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
+            targets: &[frame_target(Some(wgpu::BlendState::ALPHA_BLENDING))],
         }),
         multiview_mask: None,
         cache: None,
