@@ -255,6 +255,32 @@ fn file_round_trip_and_selection() {
     assert!(drawn.triangle_count() < report.input_triangles);
 }
 
+/// Layers are built in parallel batches, each written while the next is built: the
+/// file must still be the same byte for byte whatever the number of threads.
+#[test]
+fn file_does_not_depend_on_the_thread_count() {
+    let grid = faulted_grid(30, 20);
+    let dir = tempfile::tempdir().unwrap();
+    let build_on = |threads: usize| {
+        let path = dir.path().join(format!("model-{threads}.lod"));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let report = pool
+            .install(|| build_file(&grid, Some("PORO"), &path, &options(4)))
+            .unwrap();
+        (report.nodes, std::fs::read(&path).unwrap())
+    };
+    let (nodes, one) = build_on(1);
+    assert!(nodes > 4, "{nodes} nodes");
+    for threads in [2, 3] {
+        let (n, many) = build_on(threads);
+        assert_eq!(n, nodes);
+        assert!(many == one, "{threads} threads wrote another file");
+    }
+}
+
 #[test]
 fn damaged_files_are_errors() {
     let grid = faulted_grid(12, 10);
