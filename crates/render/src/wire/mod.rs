@@ -83,6 +83,7 @@ pub struct PipelineContext<'a> {
 
 /// Colour and depth formats of every frame.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The frame's colour target with `blend`.
 pub(crate) fn frame_target(blend: Option<wgpu::BlendState>) -> Option<wgpu::ColorTargetState> {
@@ -92,7 +93,6 @@ pub(crate) fn frame_target(blend: Option<wgpu::BlendState>) -> Option<wgpu::Colo
         write_mask: wgpu::ColorWrites::ALL,
     })
 }
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The targets and shared bindings of the frame being drawn.
 pub struct FrameTargets<'a> {
