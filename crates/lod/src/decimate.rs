@@ -17,7 +17,8 @@
 //!   nothing folds over and the texture parameterisation stays one-to-one.
 //! * Order and speed: collapses run in passes, as in meshoptimizer. A pass evaluates
 //!   every edge and collapses them, up to what the target still needs and under an
-//!   error bound of 1.5 times the cost of the last collapse the target would need;
+//!   error bound of 1.5 times the cost of the last collapse the target would need
+//!   (never below the last pass's, and twice it after a pass that stalled);
 //!   the two ends of a collapse are left alone for the rest of the pass. Cheapest
 //!   first, but in surface order where that is the same thing: a few rounds take the
 //!   edges that are the cheapest at both their ends in the order of the triangles,
@@ -236,6 +237,31 @@ const LOCAL_VERTICES: usize = 100_000;
 /// would yield one local minimum per round.
 fn rank(c: &Candidate, i: u32) -> (u32, u32) {
     (c.cost.to_bits(), i.wrapping_mul(0x9E37_79B1))
+}
+
+/// A pass that makes fewer than 1 / `STALL_DIVISOR` of the collapses it needs has
+/// stalled, and the next pass's bound is at least `STALL_GROWTH` times its own. The
+/// bound comes from estimated costs, and a new point's estimate (the texture plane's
+/// linear model) can be well below its exact cost on the original surface where that
+/// curves: when such points make up the cheapest candidates, every pass sets the same
+/// bound from the same estimates and they fail again. Measured on a generated
+/// 2000 x 2000 layer to 10 %: passes 8 to 17 made 0.0-14 % of their goal, then an
+/// unbounded pass reached the target with error 2.4e-2; growing the bound instead
+/// takes 12 passes in all, 26 % less time, error 1.6e-3.
+const STALL_DIVISOR: usize = 8;
+const STALL_GROWTH: f64 = 2.0;
+
+/// The least bound of the next pass after one that needed `goal` collapses, made
+/// `made` and set its own bound `own`: that bound again (bounds never fall, as
+/// collapses only get costlier), more after a stall, none after a pass without a
+/// bound of its own, and infinite (no bound of its own) after one that made nothing.
+fn next_floor(made: usize, goal: usize, own: Option<f64>) -> f64 {
+    match own {
+        _ if made == 0 => f64::INFINITY,
+        None => 0.0,
+        Some(bound) if made * STALL_DIVISOR < goal => STALL_GROWTH * bound,
+        Some(bound) => bound,
+    }
 }
 
 /// Passes after which decimation stops even if collapses are still possible (each
@@ -1051,10 +1077,12 @@ impl<'a> Collapser<'a> {
         self.candidates = candidates;
     }
 
-    /// One pass; the number of collapses it made. `relax` drops the pass's own bound
-    /// (keeping `max_cost`), for when a bounded pass could make no collapse: every
-    /// candidate under the bound failed its checks, yet costlier ones may not.
-    fn pass(&mut self, target: usize, max_cost: f64, relax: bool) -> usize {
+    /// One pass, whose own bound is at least `floor`; the number of collapses it made,
+    /// and its own bound if it set one (not when it has fewer candidates than it needs
+    /// collapses). An infinite `floor` drops the pass's own bound (keeping `max_cost`),
+    /// for when a bounded pass could make no collapse: every candidate under the bound
+    /// failed its checks, yet costlier ones may not.
+    fn pass(&mut self, target: usize, max_cost: f64, floor: f64) -> (usize, Option<f64>) {
         let start = Instant::now();
         self.rebuild_lists();
         self.busy.iter_mut().for_each(|b| *b = false);
@@ -1066,13 +1094,16 @@ impl<'a> Collapser<'a> {
         // candidate sets the pass's bound.
         let goal = (self.live - target).div_ceil(2);
         let mut bound = max_cost;
-        if goal < self.candidates.len() && !relax {
+        let mut own = None;
+        if goal < self.candidates.len() && floor.is_finite() {
             let mut costs = std::mem::take(&mut self.scratch.costs);
             costs.clear();
             costs.extend(self.candidates.iter().map(|c| c.cost.to_bits()));
             let (_, nth, _) = costs.select_nth_unstable(goal);
             let nth = f64::from(f32::from_bits(*nth));
-            bound = bound.min((PASS_ERROR_BOUND * nth).max(self.tie));
+            let pass_bound = (PASS_ERROR_BOUND * nth).max(self.tie).max(floor);
+            bound = bound.min(pass_bound);
+            own = Some(pass_bound);
             self.scratch.costs = costs;
         }
         self.candidates.retain(|c| f64::from(c.cost) <= bound);
@@ -1102,7 +1133,7 @@ impl<'a> Collapser<'a> {
         }
         self.scratch.open = open;
         self.timings.collapse += gathered.elapsed().as_secs_f64();
-        self.collapses - before
+        (self.collapses - before, own)
     }
 
     /// One round over the `open` candidates (indices into `candidates`, in gather
@@ -1213,16 +1244,17 @@ impl<'a> Collapser<'a> {
     fn run(mut self) -> Result<Decimated> {
         let target = self.options.target_triangles;
         let max_cost = f64::from(self.options.max_error).powi(2);
-        let mut relax = false;
+        let mut floor = 0.0;
         for _ in 0..MAX_PASSES {
             if self.live <= target {
                 break;
             }
-            let made = self.pass(target, max_cost, relax);
-            if made == 0 && relax {
+            let goal = (self.live - target).div_ceil(2);
+            let (made, own) = self.pass(target, max_cost, floor);
+            if made == 0 && floor == f64::INFINITY {
                 break;
             }
-            relax = made == 0;
+            floor = next_floor(made, goal, own);
         }
         Ok(self.finish())
     }
@@ -1331,6 +1363,16 @@ mod tests {
                 assert_eq!(local.mesh.positions[v], mesh.positions[s as usize]);
             }
         }
+    }
+
+    #[test]
+    fn pass_bounds_never_fall_and_grow_after_a_stall() {
+        assert_eq!(next_floor(100, 120, Some(2.0)), 2.0);
+        assert_eq!(next_floor(15, 120, Some(2.0)), 2.0);
+        assert_eq!(next_floor(14, 120, Some(2.0)), 2.0 * STALL_GROWTH);
+        assert_eq!(next_floor(0, 120, Some(2.0)), f64::INFINITY);
+        assert_eq!(next_floor(0, 120, None), f64::INFINITY);
+        assert_eq!(next_floor(50, 120, None), 0.0);
     }
 
     #[test]
