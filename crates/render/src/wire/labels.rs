@@ -1,11 +1,21 @@
 //! The α/β/γ vertex labelling of Celes & Abraham (section 3.2) for drawing the edges
 //! of arbitrary triangle meshes with per-vertex texture coordinates: every triangle
-//! needs three distinct labels. A depth-first search over triangles across their edges
-//! labels vertices; a vertex whose label conflicts is duplicated (reusing an earlier
+//! needs three distinct labels. A search over triangles across their edges labels
+//! vertices; a vertex whose label conflicts is duplicated (reusing an earlier
 //! duplicate with the right label when there is one), and the search stops spreading
 //! from a triangle that needed a duplicate; an outer loop reaches every triangle.
+//!
+//! The paper searches depth first; we search breadth first. A depth-first walk runs
+//! off in a long thin path whose sides later close onto each other with labels that
+//! disagree, while a breadth-first front grows as a disc, labelling each triangle
+//! from two already labelled neighbours. Measured (tests/wire_modes.rs): on an
+//! icosphere of 4 subdivisions 7.6 % extra vertices against 42.0 % depth first; on
+//! Delaunay triangulations of 3000 random points 45.7 % and 46.4 % against 45.3 % and
+//! 45.9 %; none on structured meshes either way. On the 1 M-triangle sphere of
+//! `strata bench wire` that takes `tex` from 1.22 x to 1.15 x the shaded frame
+//! (analytic coverage, retained; lavapipe).
 
-use std::collections::HashMap;
+use std::collections::{HashMap, VecDeque};
 
 /// The result: for each output vertex the original it copies and its label (0, 1, 2),
 /// and the triangles re-indexed onto the output vertices.
@@ -57,13 +67,13 @@ pub fn label_vertices(vertex_count: usize, triangles: &[[u32; 3]]) -> Labelling 
     // Duplicates of each original vertex, by label.
     let mut copies: HashMap<u32, [u32; 3]> = HashMap::new();
     let mut visited = vec![false; triangles.len()];
-    let mut stack = Vec::new();
+    let mut queue = VecDeque::new();
     for first in 0..triangles.len() {
         if visited[first] {
             continue;
         }
-        stack.push(first as u32);
-        while let Some(t) = stack.pop() {
+        queue.push_back(first as u32);
+        while let Some(t) = queue.pop_front() {
             let t = t as usize;
             if visited[t] {
                 continue;
@@ -77,7 +87,7 @@ pub fn label_vertices(vertex_count: usize, triangles: &[[u32; 3]]) -> Labelling 
                 let (a, b) = (tri[e], tri[(e + 1) % 3]);
                 for &n in &edges[&(a.min(b), a.max(b))] {
                     if !visited[n as usize] {
-                        stack.push(n);
+                        queue.push_back(n);
                     }
                 }
             }

@@ -27,7 +27,7 @@ pub enum WireMode {
     Global,
     /// Per-quad -1 / +1 coordinates (cell faces).
     Quad,
-    /// Per-vertex α/β/γ labels found by depth-first search, duplicating on conflict.
+    /// Per-vertex α/β/γ labels found by a breadth-first search, duplicating on conflict.
     Tex,
     /// Per-triangle coordinates made while pulling vertices (no duplication).
     TexGs,
