@@ -385,6 +385,14 @@ fn tex_labels_irregular_meshes_and_report_duplication() {
         // Far from the "at most 40%" of the paper's models would mean a regression of
         // the search (e.g. no reuse of earlier duplicates).
         assert!(*extra < 0.5, "{name}: {:.1}% extra vertices", 100.0 * extra);
+        if name.starts_with("icosphere") {
+            // Breadth first: 7.6 % (the paper's depth-first order copied 42 %).
+            assert!(
+                *extra < 0.15,
+                "{name}: {:.1}% extra vertices",
+                100.0 * extra
+            );
+        }
     }
 }
 
