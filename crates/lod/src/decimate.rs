@@ -1077,12 +1077,19 @@ impl<'a> Collapser<'a> {
         self.candidates = candidates;
     }
 
-    /// One pass, whose own bound is at least `floor`; the number of collapses it made,
-    /// and its own bound if it set one (not when it has fewer candidates than it needs
-    /// collapses). An infinite `floor` drops the pass's own bound (keeping `max_cost`),
-    /// for when a bounded pass could make no collapse: every candidate under the bound
-    /// failed its checks, yet costlier ones may not.
-    fn pass(&mut self, target: usize, max_cost: f64, floor: f64) -> (usize, Option<f64>) {
+    /// One pass, down to `target` triangles, that needs `goal` collapses (each removes
+    /// about two triangles) and whose own bound is at least `floor`; the number of
+    /// collapses it made, and its own bound if it set one (not when it has fewer
+    /// candidates than it needs collapses). An infinite `floor` drops the pass's own
+    /// bound (keeping `max_cost`), for when a bounded pass could make no collapse:
+    /// every candidate under the bound failed its checks, yet costlier ones may not.
+    fn pass(
+        &mut self,
+        target: usize,
+        goal: usize,
+        max_cost: f64,
+        floor: f64,
+    ) -> (usize, Option<f64>) {
         let start = Instant::now();
         self.rebuild_lists();
         self.busy.iter_mut().for_each(|b| *b = false);
@@ -1090,9 +1097,7 @@ impl<'a> Collapser<'a> {
         let gathered = Instant::now();
         self.timings.evaluate += (gathered - start).as_secs_f64();
         self.timings.passes += 1;
-        // Each collapse removes about two triangles: the cost of the goal-th cheapest
-        // candidate sets the pass's bound.
-        let goal = (self.live - target).div_ceil(2);
+        // The cost of the goal-th cheapest candidate sets the pass's bound.
         let mut bound = max_cost;
         let mut own = None;
         if goal < self.candidates.len() && floor.is_finite() {
@@ -1250,7 +1255,7 @@ impl<'a> Collapser<'a> {
                 break;
             }
             let goal = (self.live - target).div_ceil(2);
-            let (made, own) = self.pass(target, max_cost, floor);
+            let (made, own) = self.pass(target, goal, max_cost, floor);
             if made == 0 && floor == f64::INFINITY {
                 break;
             }
