@@ -294,8 +294,19 @@ enum Choice {
     /// Onto `b` (a goes).
     KeepB,
     /// At texture coordinate `uv` of the reference surface, moved `lift` along the
-    /// surface normal there (in the joint frame, z scaled).
-    Point { uv: [f64; 2], lift: f64 },
+    /// surface normal there (in the joint frame, z scaled). Single precision, as the
+    /// vertex data it becomes: a pass holds a candidate per edge, and at 28 bytes
+    /// instead of 48 they take 40 % less memory to fill and stream.
+    Point { uv: [f32; 2], lift: f32 },
+}
+
+impl Choice {
+    fn point(uv: [f64; 2], lift: f64) -> Choice {
+        Choice::Point {
+            uv: uv.map(|c| c as f32),
+            lift: lift as f32,
+        }
+    }
 }
 
 /// A resolved placement: the joint-space point and the output attributes.
@@ -772,7 +783,7 @@ impl<'a> Collapser<'a> {
                         // of the surface means nothing.
                         && d[2] * d[2] <= dot3(sub3(xb, xa), sub3(xb, xa))
                     {
-                        consider(q.normalize(value), Choice::Point { uv, lift: d[2] });
+                        consider(q.normalize(value), Choice::point(uv, d[2]));
                         placed = true;
                     }
                 }
@@ -784,7 +795,7 @@ impl<'a> Collapser<'a> {
                 && let Some((d, value)) = q.minimize_on_plane(xa, &axa, &j, &aj)
                 && let Some(uv) = inside(d)
             {
-                consider(q.normalize(value), Choice::Point { uv, lift: 0.0 });
+                consider(q.normalize(value), Choice::point(uv, 0.0));
                 placed = true;
             }
             if !placed {
@@ -793,7 +804,7 @@ impl<'a> Collapser<'a> {
                 let (t, value) = q.minimize_on_segment(xa, &axa, &e, &ae);
                 if t > 0.0 && t < 1.0 {
                     let uv = [ua[0] + t * edge[0], ua[1] + t * edge[1]];
-                    consider(q.normalize(value), Choice::Point { uv, lift: 0.0 });
+                    consider(q.normalize(value), Choice::point(uv, 0.0));
                 }
             }
         }
@@ -814,7 +825,17 @@ impl<'a> Collapser<'a> {
             Choice::KeepA => Some(vertex(a)),
             Choice::KeepB => Some(vertex(b)),
             Choice::Point { uv, lift } => {
-                let found: SurfacePoint = [self.home[a as usize], self.home[b as usize]]
+                let (uv, lift) = (uv.map(f64::from), f64::from(lift));
+                // From the home of the nearer end (in texture space): a shorter walk.
+                let nearer_b = {
+                    let d2 = |v: u32| {
+                        let t = self.texcoord[v as usize];
+                        (f64::from(t[0]) - uv[0]).powi(2) + (f64::from(t[1]) - uv[1]).powi(2)
+                    };
+                    d2(b) < d2(a)
+                };
+                let (first, second) = if nearer_b { (b, a) } else { (a, b) };
+                let found: SurfacePoint = [self.home[first as usize], self.home[second as usize]]
                     .into_iter()
                     .filter(|&h| h != NONE)
                     .find_map(|h| self.reference.locate(h, uv))?;
@@ -1209,24 +1230,24 @@ impl<'a> Collapser<'a> {
     }
 
     /// Collapses `a b` as `choice` says (or onto an endpoint when the new point is
-    /// off the surface or folds a triangle) if the checks pass and the exact cost
-    /// stays within `bound`.
+    /// off the surface, costs more than `bound` or folds a triangle) if the checks
+    /// pass and the exact cost stays within `bound`.
     fn try_collapse(&mut self, a: u32, b: u32, choice: Choice, bound: f64) {
         let q = self.q[a as usize].sum(&self.q[b as usize]);
         if let Choice::Point { .. } = choice {
             if let Some(p) = self.place(a, b, choice) {
+                // The texture plane's estimate can be well under the exact cost on the
+                // original surface; an endpoint (exact) may then still be within the
+                // bound.
                 let exact = q.error(&p.x);
-                if exact > bound {
-                    // An endpoint costs more still.
-                    return;
-                }
-                if self.can_collapse(a, b, &p, true) {
+                if exact <= bound && self.can_collapse(a, b, &p, true) {
                     self.collapse(a, b, &p, true);
                     self.max_cost = self.max_cost.max(exact);
                     return;
                 }
             }
-            // Off the surface or folding: fall back to the better endpoint.
+            // Over the bound, off the surface or folding: fall back to the better
+            // endpoint.
             if let Some((_, fallback)) = self.evaluate(a, b, true, NONE) {
                 self.try_collapse(a, b, fallback, bound);
             }
@@ -1378,6 +1399,12 @@ mod tests {
         assert_eq!(next_floor(0, 120, Some(2.0)), f64::INFINITY);
         assert_eq!(next_floor(0, 120, None), f64::INFINITY);
         assert_eq!(next_floor(50, 120, None), 0.0);
+    }
+
+    #[test]
+    fn candidates_stay_small() {
+        // A pass holds one per edge: see `Choice::Point`.
+        assert_eq!(std::mem::size_of::<Candidate>(), 28);
     }
 
     #[test]
