@@ -735,9 +735,28 @@ impl<'a> Collapser<'a> {
         }
         let q = self.q[a as usize].sum(&self.q[b as usize]);
         let (xa, xb) = (&self.x[a as usize], &self.x[b as usize]);
-        // Every cost below comes from these two products (the segment's and the
-        // plane's minima are expanded around `xa`).
-        let (axa, axb) = (q.apply(xa), q.apply(xb));
+        let (ua, ub) = (
+            self.texcoord[a as usize].map(f64::from),
+            self.texcoord[b as usize].map(f64::from),
+        );
+        let edge = [ub[0] - ua[0], ub[1] - ua[1]];
+        // Every cost below comes from `A xa`, `A xb` and, for a new point, `A J` (the
+        // segment's and the plane's minima are expanded around `xa`). The edge lies in
+        // the texture plane, `xb - xa = J (ub - ua)`, so `A xb` follows from the
+        // others without a product of its own.
+        let axa = q.apply(xa);
+        let plane = if free {
+            self.jacobian(first)
+                .map(|j| (j, [q.apply(&j[0]), q.apply(&j[1])]))
+        } else {
+            None
+        };
+        let axb = match &plane {
+            Some((_, aj)) => {
+                std::array::from_fn(|k| axa[k] + aj[0][k] * edge[0] + aj[1][k] * edge[1])
+            }
+            None => q.apply(xb),
+        };
         let mut best: Option<(f64, Choice)> = None;
         let mut consider = |cost: f64, choice: Choice| {
             if best.is_none_or(|(c, _)| cost + self.tie < c) {
@@ -750,15 +769,9 @@ impl<'a> Collapser<'a> {
         if keep_b {
             consider(q.error_with(xb, &axb), Choice::KeepB);
         }
-        if free && let Some(j) = self.jacobian(first) {
-            let (ua, ub) = (
-                self.texcoord[a as usize].map(f64::from),
-                self.texcoord[b as usize].map(f64::from),
-            );
-            let edge = [ub[0] - ua[0], ub[1] - ua[1]];
+        if let Some((j, aj)) = plane {
             let len2 = edge[0] * edge[0] + edge[1] * edge[1];
             let mid = [0.5 * (ua[0] + ub[0]), 0.5 * (ua[1] + ub[1])];
-            let aj = [q.apply(&j[0]), q.apply(&j[1])];
             // The plane holds the edge (its triangle interpolates both ends exactly), so
             // its minimum is never worse than the edge's: the edge's is the fallback
             // for when the plane's is too far away to trust.
@@ -927,47 +940,56 @@ impl<'a> Collapser<'a> {
     /// changed triangle unfolded in space and in texture space?
     fn can_collapse(&mut self, keep: u32, gone: u32, p: &Spot, keep_moves: bool) -> bool {
         // Mark the neighbours of `keep`, then count those of `gone` that are marked
-        // (unmarking each, so that it counts once).
+        // (unmarking each, so that it counts once), checking `gone`'s triangles on the
+        // way: each star is read once, and `keep`'s once more only when it moves.
         self.stamp = self.stamp.wrapping_add(1).max(1);
         let stamp = self.stamp;
         let star = |v: u32| self.start[v as usize] as usize..self.start[v as usize + 1] as usize;
+        let mut remaining = 0;
         for i in star(keep) {
             let t = self.refs[i];
             if self.uses(t, keep) {
-                for w in self.tris[t as usize] {
+                let tri = self.tris[t as usize];
+                for w in tri {
                     self.mark[w as usize] = stamp;
                 }
+                if !tri.contains(&gone) {
+                    remaining += 1;
+                }
             }
         }
-        let mut shared_vertices = 0;
+        let (mut shared_vertices, mut shared_tris) = (0, 0);
         for i in star(gone) {
             let t = self.refs[i];
-            if self.uses(t, gone) {
-                for w in self.tris[t as usize] {
-                    if w != keep && w != gone && self.mark[w as usize] == stamp {
-                        self.mark[w as usize] = 0;
-                        shared_vertices += 1;
-                    }
-                }
+            if !self.uses(t, gone) {
+                continue;
             }
-        }
-        let (shared_tris, _) = self.edge_triangles(keep, gone);
-        if shared_vertices != shared_tris {
-            return false;
-        }
-        let mut remaining = 0;
-        for (v, other, moves) in [(keep, gone, keep_moves), (gone, keep, true)] {
-            for &t in self.star(v) {
-                if !self.uses(t, v) || self.tris[t as usize].contains(&other) {
-                    continue;
-                }
+            let tri = self.tris[t as usize];
+            if tri.contains(&keep) {
+                shared_tris += 1;
+            } else {
                 remaining += 1;
-                if moves && !self.keeps_orientation(t, v, p) {
+                if !self.keeps_orientation(t, gone, p) {
                     return false;
                 }
             }
+            for w in tri {
+                if w != keep && w != gone && self.mark[w as usize] == stamp {
+                    self.mark[w as usize] = 0;
+                    shared_vertices += 1;
+                }
+            }
         }
-        remaining > 0
+        if shared_vertices != shared_tris || remaining == 0 {
+            return false;
+        }
+        !keep_moves
+            || star(keep).all(|i| {
+                let t = self.refs[i];
+                !self.uses(t, keep)
+                    || self.tris[t as usize].contains(&gone)
+                    || self.keeps_orientation(t, keep, p)
+            })
     }
 
     /// Does triangle `t` keep the direction of its normal and the sign of its texture
