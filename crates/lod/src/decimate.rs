@@ -418,6 +418,10 @@ struct Collapser<'a> {
     frame: Frame,
     has_scalars: bool,
     // Per vertex.
+    /// The joint point, derivable from `position`, `texcoord` and `scalar` (it is
+    /// exactly `Frame::point` of them) but kept: fetching it from one array was
+    /// measured faster than deriving it from three (generated 1000 x 1000 layer to
+    /// 10 %: evaluate 0.85 s against 1.03-1.14 s, collapse 1.5 s against 1.7-2.0 s).
     x: Vec<Point>,
     q: Vec<Quadric>,
     position: Vec<[f32; 3]>,
