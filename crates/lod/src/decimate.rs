@@ -1418,6 +1418,52 @@ mod tests {
     }
 
     #[test]
+    fn a_new_point_over_the_bound_falls_back_to_an_endpoint_within_it() {
+        // On a curved surface the texture plane's estimate of a new point can be well
+        // under its exact cost on the original, and above an endpoint's (exact) cost.
+        let mesh = SurfaceMesh::structured(30, 30, |i, j| {
+            let (x, y) = (i as f32, j as f32);
+            [10.0 * x, 10.0 * y, 8.0 * (0.3 * x).sin() * (0.23 * y).cos()]
+        });
+        let options = Options::default();
+        let reference = Reference::new(&mesh).unwrap();
+        let home = reference.vertex_triangle.clone();
+        let mut c = Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
+        c.rebuild_lists();
+        let edges: Vec<(u32, u32, u32)> = (0..c.tris.len() as u32)
+            .flat_map(|t| {
+                let tri = c.tris[t as usize];
+                (0..3).map(move |k| (t, tri[k], tri[(k + 1) % 3]))
+            })
+            .collect();
+        let found = edges.into_iter().find_map(|(t, a, b)| {
+            let (_, point) = c.evaluate(a, b, false, t)?;
+            if !matches!(point, Choice::Point { .. }) {
+                return None;
+            }
+            let exact = c.q[a as usize]
+                .sum(&c.q[b as usize])
+                .error(&c.place(a, b, point)?.x);
+            let (endpoint, keep) = c.evaluate(a, b, true, t)?;
+            let spot = c.place(a, b, keep)?;
+            let (kept, gone) = if matches!(keep, Choice::KeepB) {
+                (b, a)
+            } else {
+                (a, b)
+            };
+            (endpoint < exact && c.can_collapse(kept, gone, &spot, false))
+                .then_some((a, b, point, endpoint, exact, kept))
+        });
+        let (a, b, point, endpoint, exact, kept) =
+            found.expect("an edge whose new point costs more than an endpoint");
+        let bound = 0.5 * (endpoint + exact);
+        c.try_collapse(a, b, point, bound);
+        assert_eq!(c.collapses, 1, "no collapse under bound {bound}");
+        assert!(c.flag(kept, ALIVE) && !c.flag(kept, MOVED));
+        assert!(c.max_cost <= bound, "{} > {bound}", c.max_cost);
+    }
+
+    #[test]
     fn pass_bounds_never_fall_and_grow_after_a_stall() {
         assert_eq!(next_floor(100, 120, Some(2.0)), 2.0);
         assert_eq!(next_floor(15, 120, Some(2.0)), 2.0);
