@@ -315,7 +315,7 @@ fn append_all(meshes: &[SurfaceMesh], origin: [f64; 3]) -> SurfaceMesh {
 }
 
 /// Process CPU seconds so far: user and system.
-fn cpu_seconds() -> (f64, f64) {
+fn cpu_times() -> (f64, f64) {
     let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
         return (f64::NAN, f64::NAN);
     };
@@ -669,14 +669,14 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
             runs.push((Method::Ours(Placement::Surface), cores));
         }
         for (method, threads) in runs {
-            let (wall, cpu) = (Instant::now(), cpu_seconds());
+            let (wall, cpu) = (Instant::now(), cpu_times());
             let results: Vec<Decimated> =
                 par_map(layers, threads, |m| method.run(m, GOAL_BUDGET / 100.0))
                     .into_iter()
                     .collect::<Result<_>>()?;
             let seconds = wall.elapsed().as_secs_f64();
             let (user, system) = {
-                let now = cpu_seconds();
+                let now = cpu_times();
                 (now.0 - cpu.0, now.1 - cpu.1)
             };
             let cpu = user + system;
