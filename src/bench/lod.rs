@@ -684,8 +684,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
             runs.push((Method::Ours(Placement::Surface), cores));
         }
         for (method, threads) in runs {
-            // Small inputs run again until the CPU clock (10 ms ticks) has counted
-            // enough to resolve them; the row is the mean of those runs.
+            // Repeated while under MIN_CPU_SECONDS; the row is the mean per run.
             let (wall, cpu) = (Instant::now(), cpu_times());
             let mut repeats = 0;
             let (results, user, system) = loop {
