@@ -80,10 +80,10 @@ pub enum Placement {
     #[default]
     Surface,
     /// At the quadric's minimum over the texture plane and the normal off it: the
-    /// vertex may leave the original surface (by about the collapse's error), which
-    /// lets a coarse surface pass through the original rather than lie on one side of
-    /// it where it curves; its texture coordinates are those of the nearest point of
-    /// the original.
+    /// vertex may leave the original surface, by at most the error of its collapse,
+    /// which lets a coarse surface pass through the original rather than lie on one
+    /// side of it where it curves; its texture coordinates are those of the nearest
+    /// point of the original.
     Optimal,
 }
 
@@ -1260,12 +1260,18 @@ impl<'a> Collapser<'a> {
     /// pass and the exact cost stays within `bound`.
     fn try_collapse(&mut self, a: u32, b: u32, choice: Choice, bound: f64) {
         let q = self.q[a as usize].sum(&self.q[b as usize]);
-        if let Choice::Point { .. } = choice {
+        if let Choice::Point { uv, lift } = choice {
             if let Some(p) = self.place(a, b, choice) {
                 // The texture plane's estimate can be well under the exact cost on the
                 // original surface; an endpoint (exact) may then still be within the
                 // bound.
                 let exact = q.error(&p.x);
+                // A lifted point leaves the original by no more than the collapse's
+                // error (`Placement::Optimal`); else the same point on the surface.
+                if f64::from(lift).powi(2) > exact {
+                    self.try_collapse(a, b, Choice::Point { uv, lift: 0.0 }, bound);
+                    return;
+                }
                 if exact <= bound && self.can_collapse(a, b, &p, true) {
                     self.collapse(a, b, &p, true);
                     self.max_cost = self.max_cost.max(exact);
