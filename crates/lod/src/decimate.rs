@@ -176,11 +176,11 @@ pub struct Timings {
 /// Simplifies `mesh` on itself as the reference surface, with no locked vertex.
 pub fn decimate(mesh: &SurfaceMesh, options: &Options) -> Result<Decimated> {
     let start = Instant::now();
-    let reference = Reference::new(mesh)?;
+    let (reference, vt) = Reference::with_vertex_triangles(mesh)?;
     let home = reference.vertex_triangle.clone();
-    let adjacency = reference.adjacency.as_slice();
     let prepared = start.elapsed().as_secs_f64();
-    let collapser = Collapser::new(mesh, &home, &reference, &[], options, Some(adjacency))?;
+    let topology = Some((reference.adjacency.as_slice(), vt));
+    let collapser = Collapser::new(mesh, &home, &reference, &[], options, topology)?;
     let setup = start.elapsed().as_secs_f64() - prepared;
     let mut out = collapser.run()?;
     out.timings.reference = prepared;
@@ -492,13 +492,15 @@ fn dot3(u: [f64; 3], v: [f64; 3]) -> f64 {
 }
 
 impl<'a> Collapser<'a> {
+    /// `topology`: the triangle adjacency and vertex-to-triangle lists of `mesh` when
+    /// the caller has them (a mesh decimated on itself), else they are built here.
     fn new(
         mesh: &SurfaceMesh,
         home: &[u32],
         reference: &'a Reference<'a>,
         locked: &[bool],
         options: &'a Options,
-        adjacency: Option<&[[u32; 3]]>,
+        topology: Option<(&[[u32; 3]], VertexTriangles)>,
     ) -> Result<Self> {
         options.check()?;
         mesh.validate().map_err(Error::Mesh)?;
@@ -521,13 +523,13 @@ impl<'a> Collapser<'a> {
                 "home triangle {h} is not in the reference surface ({ref_triangles} triangles)"
             )));
         }
-        let vt = VertexTriangles::new(n, &mesh.triangles);
         let owned;
-        let adjacency = match adjacency {
-            Some(a) => a,
+        let (adjacency, vt) = match topology {
+            Some(t) => t,
             None => {
+                let vt = VertexTriangles::new(n, &mesh.triangles);
                 owned = crate::reference::triangle_adjacency(&mesh.triangles, &vt);
-                &owned
+                (owned.as_slice(), vt)
             }
         };
         let frame = Frame::new(mesh, options);

@@ -108,17 +108,24 @@ pub(crate) fn triangle_adjacency(triangles: &[[u32; 3]], vt: &VertexTriangles) -
 impl<'m> Reference<'m> {
     /// Prepares `mesh`; fails when it breaks the mesh invariants.
     pub fn new(mesh: &'m SurfaceMesh) -> Result<Self> {
+        Ok(Self::with_vertex_triangles(mesh)?.0)
+    }
+
+    /// [`Reference::new`], and the vertex-to-triangle lists it was built from, for a
+    /// caller that needs them too (decimating the mesh on itself).
+    pub(crate) fn with_vertex_triangles(mesh: &'m SurfaceMesh) -> Result<(Self, VertexTriangles)> {
         mesh.validate().map_err(Error::Mesh)?;
         let vt = VertexTriangles::new(mesh.vertex_count(), &mesh.triangles);
         let adjacency = triangle_adjacency(&mesh.triangles, &vt);
         let vertex_triangle = (0..mesh.vertex_count() as u32)
             .map(|v| vt.of(v).first().copied().unwrap_or(NONE))
             .collect();
-        Ok(Reference {
+        let reference = Reference {
             mesh,
             adjacency,
             vertex_triangle,
-        })
+        };
+        Ok((reference, vt))
     }
 
     /// A triangle using each vertex of `mesh` ([`NONE`] for unused vertices), without
