@@ -32,7 +32,7 @@
 //! also on all cores across layer surfaces; CPU seconds beside wall seconds, since the
 //! machine may be shared. An input that takes under half a CPU second runs again
 //! until it has taken that much, and its row gives the mean per run. Our
-//! stages (reference, setup, evaluating, collapsing) are timed for profiling. Peak
+//! stages (reference, setup, evaluating, collapsing, the final lift) are timed for profiling. Peak
 //! memory is the process's VmHWM at the end.
 
 use std::path::{Path, PathBuf};
@@ -188,6 +188,7 @@ pub struct Stages {
     pub setup: f64,
     pub evaluate: f64,
     pub collapse: f64,
+    pub lift: f64,
     pub passes: usize,
 }
 
@@ -707,6 +708,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                     setup: s.setup + r.timings.setup,
                     evaluate: s.evaluate + r.timings.evaluate,
                     collapse: s.collapse + r.timings.collapse,
+                    lift: s.lift + r.timings.lift,
                     passes: s.passes.max(r.timings.passes),
                 })
             });
@@ -903,8 +905,8 @@ pub fn print_table(report: &LodReport) {
         );
         if let Some(st) = &s.stages {
             println!(
-                "{:>26} stages: reference {:.3} s, setup {:.3} s, evaluate {:.3} s, collapse {:.3} s, {} passes",
-                "", st.reference, st.setup, st.evaluate, st.collapse, st.passes
+                "{:>26} stages: reference {:.3} s, setup {:.3} s, evaluate {:.3} s, collapse {:.3} s, lift {:.3} s, {} passes",
+                "", st.reference, st.setup, st.evaluate, st.collapse, st.lift, st.passes
             );
         }
     }

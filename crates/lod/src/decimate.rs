@@ -9,7 +9,10 @@
 //!   edge, else the best point of the edge,
 //!   else an endpoint, whichever costs least — and its position and scalar are those
 //!   of the *reference* (original) surface there ([`Reference`]). Every vertex stays
-//!   on the original surface with exactly its interpolated attributes.
+//!   on the original surface with exactly its interpolated attributes, until a last
+//!   step ([`Options::lift`]) moves interior vertices along the surface normal, by at
+//!   most their error, so that the coarse surface passes through the original where
+//!   it curves instead of lying on one side of it.
 //! * Topology: boundary vertices only slide along their boundary (half-edge collapses
 //!   onto a neighbour on it), an interior edge between two boundary vertices never
 //!   collapses (that would pinch a hole shut or stitch the two sides of a fault), the
@@ -67,6 +70,17 @@ pub struct Options {
     pub boundary_weight: f32,
     /// Where new vertices go.
     pub placement: Placement,
+    /// After the last pass, move every interior vertex along the original surface's
+    /// normal to the minimum of its quadric (the planes of everything merged into it),
+    /// by at most its error, taking the texture coordinates and scalar of the nearest
+    /// point of the original: a coarse surface then passes through the original
+    /// instead of lying on one side of it where it curves, and the grid lines it
+    /// carries stay where the original draws them (meshoptimizer's
+    /// `simplify_with_update` moves its vertices likewise, texture coordinates and all).
+    /// Measured on Reek's layers at 10 % (`strata bench lod --quick`, one view):
+    /// line-pixel F1 0.967 -> 0.974 with [`Placement::Surface`], 0.972 -> 0.977 with
+    /// [`Placement::Optimal`].
+    pub lift: bool,
 }
 
 /// Where a collapse puts its new vertex. Either way, its texture coordinates and
@@ -77,7 +91,7 @@ pub struct Options {
 pub enum Placement {
     /// At the quadric's minimum over the texture plane of the collapse, on the
     /// original surface: every vertex keeps exactly the original's position, texture
-    /// coordinates and scalar there.
+    /// coordinates and scalar there (until [`Options::lift`]).
     #[default]
     Surface,
     /// At the quadric's minimum over the texture plane and the normal off it: the
@@ -98,6 +112,7 @@ impl Default for Options {
             scalar_weight: 1.0,
             boundary_weight: 4.0,
             placement: Placement::default(),
+            lift: true,
         }
     }
 }
@@ -170,6 +185,8 @@ pub struct Timings {
     pub evaluate: f64,
     /// Choosing and making the collapses (sorting included), each pass.
     pub collapse: f64,
+    /// The final [`Options::lift`].
+    pub lift: f64,
     pub passes: usize,
 }
 
@@ -1354,7 +1371,79 @@ impl<'a> Collapser<'a> {
             }
             floor = next_floor(made, goal, own);
         }
+        if self.options.lift {
+            let start = Instant::now();
+            self.lift();
+            self.timings.lift = start.elapsed().as_secs_f64();
+        }
         Ok(self.finish())
+    }
+
+    /// [`Options::lift`]: each interior vertex, in turn, to the minimum of its quadric
+    /// on the line along the original's normal through its texture point, when that
+    /// lowers its error, stays within it of the surface and folds nothing. A vertex that
+    /// no collapse touched has its minimum where it is (its triangles' planes all pass
+    /// through it) and stays.
+    fn lift(&mut self) {
+        self.rebuild_lists();
+        let mesh = self.reference.mesh();
+        for v in 0..self.flags.len() as u32 {
+            let (f, home) = (self.flags[v as usize], self.home[v as usize]);
+            if f & ALIVE == 0 || f & (BOUNDARY | LOCKED) != 0 || home == NONE {
+                continue;
+            }
+            let c = mesh.triangles[home as usize]
+                .map(|w| Frame::of_mesh(mesh, w as usize, &self.frame));
+            let n = cross3(sub3(&c[1], &c[0]), sub3(&c[2], &c[0]));
+            let len = dot3(n, n).sqrt();
+            if len == 0.0 {
+                continue;
+            }
+            let normal: Point = [n[0] / len, n[1] / len, n[2] / len, 0.0, 0.0, 0.0];
+            let q = self.q[v as usize];
+            let x = self.x[v as usize];
+            let ax = q.apply(&x);
+            let error = q.error_with(&x, &ax);
+            let (step, _) = q.minimize_along(&x, &ax, &normal);
+            if step * step <= self.tie {
+                continue;
+            }
+            // The lift counts from the surface point of the vertex's texture coordinates:
+            // where the vertex is with `Placement::Surface`; `Placement::Optimal` may
+            // have lifted it already.
+            let uv = self.texcoord[v as usize];
+            let lift = match self.options.placement {
+                Placement::Surface => step,
+                Placement::Optimal => {
+                    let Some(foot) = self.place(v, v, Choice::Point { uv, lift: 0.0 }) else {
+                        continue;
+                    };
+                    q.minimize_along(&foot.x, &q.apply(&foot.x), &normal).0
+                }
+            }
+            .clamp(-error.sqrt(), error.sqrt());
+            let Some(p) = self.place(v, v, Choice::point(uv.map(f64::from), lift)) else {
+                continue;
+            };
+            let exact = q.error(&p.x);
+            if exact + self.tie < error
+                && lift * lift <= exact
+                && self
+                    .star(v)
+                    .iter()
+                    .all(|&t| !self.uses(t, v) || self.keeps_orientation(t, v, &p))
+            {
+                let i = v as usize;
+                self.x[i] = p.x;
+                self.position[i] = p.position;
+                self.texcoord[i] = p.texcoord;
+                self.scalar[i] = p.scalar;
+                self.home[i] = p.home;
+                // `exact` is under the vertex's error, the cost of the last collapse
+                // into it: `max_cost` stands.
+                self.flags[i] |= MOVED;
+            }
+        }
     }
 
     fn finish(self) -> Decimated {

@@ -1,10 +1,10 @@
 //! strata-lod: level of detail for strata surfaces (DESIGN.md section 4).
 //!
 //! * [`decimate`]: edge-collapse simplification of a [`strata_grid::SurfaceMesh`] that
-//!   keeps every vertex on the original surface with the original surface's texture
-//!   coordinates and scalar there, so the original grid wireframe (global
-//!   coordinates) is still drawn where it was on the simplified surface
-//!   (Celes & Abraham 2011, section 5, Fig. 12).
+//!   keeps every vertex on the original surface (or lifted off it along the normal by
+//!   at most the error) with the original surface's texture coordinates and scalar
+//!   there, so the original grid wireframe (global coordinates) is still drawn where
+//!   it was on the simplified surface (Celes & Abraham 2011, section 5, Fig. 12).
 //! * [`baseline`]: meshoptimizer's simplifiers on the same meshes, to compare with,
 //!   and its vertex-cache and vertex-fetch ordering for GPU buffers.
 //! * [`build_layer`], [`build_file`], [`LodFile`]: a quadtree of tiles per layer with

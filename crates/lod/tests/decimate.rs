@@ -1,6 +1,7 @@
 //! Decimation keeps the original wireframe where it was: attributes at kept vertices
-//! untouched, new vertices on the original surface with the original's texture
-//! coordinates there, nothing folded, holes and faults kept.
+//! untouched, new vertices on the original surface (or, lifted, off it by at most the
+//! error) with the original's texture coordinates there, nothing folded, holes and
+//! faults kept.
 
 mod common;
 
@@ -17,27 +18,30 @@ const TEXCOORD: f64 = 1e-4;
 /// The vertical exaggeration the tests decimate for (distances below scale z by it).
 const Z_SCALE: f64 = 5.0;
 
-fn decimate_with(mesh: &SurfaceMesh, fraction: f64, placement: Placement) -> Decimated {
+fn decimate_with(mesh: &SurfaceMesh, fraction: f64, placement: Placement, lift: bool) -> Decimated {
     let options = Options {
         z_scale: Z_SCALE as f32,
         placement,
+        lift,
         ..Options::fraction(mesh, fraction)
     };
     decimate(mesh, &options).expect("decimate")
 }
 
 fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
-    decimate_with(mesh, fraction, Placement::Surface)
+    decimate_with(mesh, fraction, Placement::Surface, true)
 }
 
-/// Every check of the module on one decimation; returns the number of new vertices.
-/// New vertices must lie on the original surface with [`Placement::Surface`]; with
-/// [`Placement::Optimal`] they may be off it by up to the reported error.
+/// Every check of the module on one decimation with the default options; returns the
+/// number of new vertices. New vertices may be off the original surface by up to the
+/// reported error (`Options::lift`).
 fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
-    check_placed(original, out, Placement::Surface)
+    check_placed(original, out, true)
 }
 
-fn check_placed(original: &SurfaceMesh, out: &Decimated, placement: Placement) -> usize {
+/// [`check`], with new vertices held to the original surface unless `off_surface`
+/// ([`Placement::Surface`] without the lift).
+fn check_placed(original: &SurfaceMesh, out: &Decimated, off_surface: bool) -> usize {
     let mesh = &out.mesh;
     mesh.validate().unwrap();
     assert_eq!(out.source.len(), mesh.vertex_count());
@@ -75,9 +79,10 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, placement: Placement) -
             })
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .unwrap();
-        let allowed = match placement {
-            Placement::Surface => ON_SURFACE_M * Z_SCALE,
-            Placement::Optimal => f64::from(out.error) + ON_SURFACE_M * Z_SCALE,
+        let allowed = if off_surface {
+            f64::from(out.error) + ON_SURFACE_M * Z_SCALE
+        } else {
+            ON_SURFACE_M * Z_SCALE
         };
         assert!(
             dist < allowed,
@@ -209,11 +214,51 @@ fn faulted_layer_keeps_its_wireframe_at_ten_percent() {
 fn optimal_placement_keeps_texture_coordinates_of_the_nearest_original_point() {
     let grid = faulted_grid(40, 30);
     let original = layer(&grid, 1);
-    let out = decimate_with(&original, 0.1, Placement::Optimal);
-    let new = check_placed(&original, &out, Placement::Optimal);
+    let out = decimate_with(&original, 0.1, Placement::Optimal, true);
+    let new = check_placed(&original, &out, true);
     assert!(new > 10, "collapses should place new vertices ({new})");
     let d = deviation(&original, &out.mesh, &out.home, 4, Z_SCALE);
     assert!(d.max < 50.0 && d.rms < 12.5, "{d:?}");
+}
+
+#[test]
+fn surface_placement_without_the_lift_keeps_every_vertex_on_the_original() {
+    let grid = faulted_grid(40, 30);
+    let original = layer(&grid, 1);
+    let out = decimate_with(&original, 0.1, Placement::Surface, false);
+    let new = check_placed(&original, &out, false);
+    assert!(new > 10, "collapses should place new vertices ({new})");
+}
+
+#[test]
+fn the_lift_brings_the_grid_lines_closer_to_the_original() {
+    let grid = faulted_grid(40, 30);
+    let original = layer(&grid, 1);
+    for placement in [Placement::Surface, Placement::Optimal] {
+        let flat = decimate_with(&original, 0.1, placement, false);
+        let lifted = decimate_with(&original, 0.1, placement, true);
+        // The same collapses; the lift only moves vertices, never costlier than the
+        // error reached.
+        assert_eq!(flat.mesh.triangles, lifted.mesh.triangles);
+        assert!(
+            lifted.error <= flat.error,
+            "{} > {}",
+            lifted.error,
+            flat.error
+        );
+        let moved = (flat.mesh.positions.iter().zip(&lifted.mesh.positions))
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(moved > 10, "{placement:?}: {moved} vertices lifted");
+        let before = deviation(&original, &flat.mesh, &flat.home, 4, Z_SCALE);
+        let after = deviation(&original, &lifted.mesh, &lifted.home, 4, Z_SCALE);
+        assert!(
+            after.rms < before.rms,
+            "{placement:?}: RMS line distance {} -> {}",
+            before.rms,
+            after.rms
+        );
+    }
 }
 
 #[test]
