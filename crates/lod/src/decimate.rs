@@ -72,11 +72,14 @@ pub struct Options {
     pub placement: Placement,
     /// After the last pass, move every interior vertex along the original surface's
     /// normal to the minimum of its quadric (the planes of everything merged into it),
-    /// by at most its error, taking the texture coordinates and scalar of the nearest
-    /// point of the original: a coarse surface then passes through the original
-    /// instead of lying on one side of it where it curves, and the grid lines it
-    /// carries stay where the original draws them (meshoptimizer's
-    /// `simplify_with_update` moves its vertices likewise, texture coordinates and all).
+    /// by at most its error: a coarse surface then passes through the original
+    /// instead of lying on one side of it where it curves. With
+    /// [`Placement::Surface`] the vertex keeps the texture coordinates and scalar of
+    /// its point of the original, so each grid line through it is raised along the
+    /// normal and no further; with [`Placement::Optimal`] it takes those of the
+    /// original's point nearest it, as its placement did. (meshoptimizer's
+    /// `simplify_with_update` moves its vertices likewise, but optimises texture
+    /// coordinates too, which moves grid lines off where the original draws them.)
     /// Measured on Reek's layers at 10 % (`strata bench lod --quick`, one view):
     /// line-pixel F1 0.967 -> 0.974 with [`Placement::Surface`], 0.972 -> 0.977 with
     /// [`Placement::Optimal`].
@@ -1380,10 +1383,10 @@ impl<'a> Collapser<'a> {
     }
 
     /// [`Options::lift`]: each interior vertex, in turn, to the minimum of its quadric
-    /// on the line along the original's normal through its texture point, when that
-    /// lowers its error, stays within it of the surface and folds nothing. A vertex that
-    /// no collapse touched has its minimum where it is (its triangles' planes all pass
-    /// through it) and stays.
+    /// on the line along the original's normal through its texture point (the normal
+    /// of its home triangle), when that lowers its error, stays within it of the
+    /// surface and folds nothing. A vertex that no collapse touched has its minimum
+    /// where it is (its triangles' planes all pass through it) and stays.
     fn lift(&mut self) {
         self.rebuild_lists();
         let mesh = self.reference.mesh();
@@ -1408,22 +1411,50 @@ impl<'a> Collapser<'a> {
             if step * step <= self.tie {
                 continue;
             }
-            // The lift counts from the surface point of the vertex's texture coordinates:
-            // where the vertex is with `Placement::Surface`; `Placement::Optimal` may
-            // have lifted it already.
-            let uv = self.texcoord[v as usize];
-            let lift = match self.options.placement {
-                Placement::Surface => step,
+            let clamp = |lift: f64| lift.clamp(-error.sqrt(), error.sqrt());
+            let (lift, p) = match self.options.placement {
+                // On the surface: the vertex keeps its texture point and moves along
+                // the normal there.
+                Placement::Surface => {
+                    let lift = clamp(step);
+                    let i = v as usize;
+                    let old = self.position[i].map(f64::from);
+                    let position = [
+                        (old[0] + lift * normal[0]) as f32,
+                        (old[1] + lift * normal[1]) as f32,
+                        (old[2] + lift * normal[2] / self.frame.z_scale) as f32,
+                    ];
+                    let (texcoord, scalar) = (self.texcoord[i], self.scalar[i]);
+                    let x = self.frame.point(
+                        position.map(f64::from),
+                        texcoord.map(f64::from),
+                        f64::from(scalar),
+                    );
+                    (
+                        lift,
+                        Spot {
+                            x,
+                            position,
+                            texcoord,
+                            scalar,
+                            home,
+                        },
+                    )
+                }
+                // Off the surface already, with the texture point nearest the original:
+                // the lift counts from the surface point of that texture point, and
+                // the lifted vertex takes that of the point nearest it.
                 Placement::Optimal => {
+                    let uv = self.texcoord[v as usize];
                     let Some(foot) = self.place(v, v, Choice::Point { uv, lift: 0.0 }) else {
                         continue;
                     };
-                    q.minimize_along(&foot.x, &q.apply(&foot.x), &normal).0
+                    let lift = clamp(q.minimize_along(&foot.x, &q.apply(&foot.x), &normal).0);
+                    let Some(p) = self.place(v, v, Choice::point(uv.map(f64::from), lift)) else {
+                        continue;
+                    };
+                    (lift, p)
                 }
-            }
-            .clamp(-error.sqrt(), error.sqrt());
-            let Some(p) = self.place(v, v, Choice::point(uv.map(f64::from), lift)) else {
-                continue;
             };
             let exact = q.error(&p.x);
             if exact + self.tie < error

@@ -32,16 +32,28 @@ fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
     decimate_with(mesh, fraction, Placement::Surface, true)
 }
 
-/// Every check of the module on one decimation with the default options; returns the
-/// number of new vertices. New vertices may be off the original surface by up to the
-/// reported error (`Options::lift`).
-fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
-    check_placed(original, out, true)
+/// Where a decimation puts the new vertices, relative to the original surface.
+#[derive(Clone, Copy, Debug)]
+enum Rule {
+    /// At the original's point of their texture coordinates, with its scalar
+    /// ([`Placement::Surface`] without the lift).
+    OnSurface,
+    /// Off that point by at most the reported error (the default: lifted along the
+    /// normal there).
+    Lifted,
+    /// Off the surface by at most the error, with the texture coordinates and scalar of
+    /// the original's point nearest them ([`Placement::Optimal`]).
+    Nearest,
 }
 
-/// [`check`], with new vertices held to the original surface unless `off_surface`
-/// ([`Placement::Surface`] without the lift).
-fn check_placed(original: &SurfaceMesh, out: &Decimated, off_surface: bool) -> usize {
+/// Every check of the module on one decimation with the default options; returns the
+/// number of new vertices.
+fn check(original: &SurfaceMesh, out: &Decimated) -> usize {
+    check_placed(original, out, Rule::Lifted)
+}
+
+/// [`check`], new vertices placed by `rule`.
+fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
     let mesh = &out.mesh;
     mesh.validate().unwrap();
     assert_eq!(out.source.len(), mesh.vertex_count());
@@ -56,44 +68,60 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, off_surface: bool) -> u
         }
     }
 
-    // New vertices: on the original surface, or off it along its normal, with the
-    // texture coordinates and scalar of the original at the nearest point of it (brute
-    // force over all its triangles of the vertex's component; distances with z scaled
-    // as the decimation measured them).
+    // New vertices: the original point they stand for is the one of their texture
+    // coordinates (found in texture space), or with `Rule::Nearest` the nearest one
+    // (brute force over all triangles of the vertex's component); distances with z
+    // scaled as the decimation measured them.
     let labels = components(original);
+    let index = UvIndex::new(original, labels.clone());
+    let mut found = Vec::new();
     let scaled = |p: [f32; 3]| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2]) * Z_SCALE];
     let tri = |t: &[u32; 3]| t.map(|v| scaled(original.positions[v as usize]));
+    let within_error = f64::from(out.error) + ON_SURFACE_M * Z_SCALE;
     let mut new = 0;
     for (v, _) in out.source.iter().enumerate().filter(|&(_, &s)| s == NEW) {
         new += 1;
         let p = scaled(mesh.positions[v]);
         let label = labels[out.home[v] as usize];
-        let (dist, t, w) = original
-            .triangles
-            .iter()
-            .zip(&labels)
-            .filter(|&(_, &l)| l == label)
-            .map(|(t, _)| {
-                let (d2, w) = closest_on_triangle(p, tri(t));
-                (d2.sqrt(), t, w)
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .unwrap();
-        let allowed = if off_surface {
-            f64::from(out.error) + ON_SURFACE_M * Z_SCALE
-        } else {
-            ON_SURFACE_M * Z_SCALE
+        let got = mesh.texcoords[v].map(f64::from);
+        let (dist, t, w) = match rule {
+            Rule::OnSurface | Rule::Lifted => {
+                index.find(got, label, &mut found);
+                let at = found.first().unwrap_or_else(|| {
+                    panic!("new vertex {v}: texture {got:?} is not on the original")
+                });
+                let t = &original.triangles[at.triangle as usize];
+                let c = tri(t);
+                let foot: [f64; 3] =
+                    std::array::from_fn(|k| (0..3).map(|i| at.barycentric[i] * c[i][k]).sum());
+                let d2: f64 = (0..3).map(|k| (p[k] - foot[k]).powi(2)).sum();
+                (d2.sqrt(), t, at.barycentric)
+            }
+            Rule::Nearest => original
+                .triangles
+                .iter()
+                .zip(&labels)
+                .filter(|&(_, &l)| l == label)
+                .map(|(t, _)| {
+                    let (d2, w) = closest_on_triangle(p, tri(t));
+                    (d2.sqrt(), t, w)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .unwrap(),
+        };
+        let allowed = match rule {
+            Rule::OnSurface => ON_SURFACE_M * Z_SCALE,
+            Rule::Lifted | Rule::Nearest => within_error,
         };
         assert!(
             dist < allowed,
-            "new vertex {v} is {dist} off the surface (allowed {allowed})"
+            "new vertex {v} is {dist} off its point of the original (allowed {allowed})"
         );
         let uv: [f64; 2] = std::array::from_fn(|a| {
             (0..3)
                 .map(|k| w[k] * f64::from(original.texcoords[t[k] as usize][a]))
                 .sum()
         });
-        let got = mesh.texcoords[v].map(f64::from);
         assert!(
             (uv[0] - got[0]).abs() < TEXCOORD && (uv[1] - got[1]).abs() < TEXCOORD,
             "new vertex {v}: texture {got:?}, the original has {uv:?} there"
@@ -113,8 +141,6 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, off_surface: bool) -> u
     // Nothing folded: every triangle keeps the texture-space orientation of the
     // original (counter-clockwise in layer surfaces) and faces the way the original
     // faces at its centroid.
-    let index = UvIndex::new(original, labels.clone());
-    let mut found = Vec::new();
     for (i, t) in mesh.triangles.iter().enumerate() {
         let uv = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
         let area = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1])
@@ -215,7 +241,7 @@ fn optimal_placement_keeps_texture_coordinates_of_the_nearest_original_point() {
     let grid = faulted_grid(40, 30);
     let original = layer(&grid, 1);
     let out = decimate_with(&original, 0.1, Placement::Optimal, true);
-    let new = check_placed(&original, &out, true);
+    let new = check_placed(&original, &out, Rule::Nearest);
     assert!(new > 10, "collapses should place new vertices ({new})");
     let d = deviation(&original, &out.mesh, &out.home, 4, Z_SCALE);
     assert!(d.max < 50.0 && d.rms < 12.5, "{d:?}");
@@ -226,7 +252,7 @@ fn surface_placement_without_the_lift_keeps_every_vertex_on_the_original() {
     let grid = faulted_grid(40, 30);
     let original = layer(&grid, 1);
     let out = decimate_with(&original, 0.1, Placement::Surface, false);
-    let new = check_placed(&original, &out, false);
+    let new = check_placed(&original, &out, Rule::OnSurface);
     assert!(new > 10, "collapses should place new vertices ({new})");
 }
 
