@@ -1411,18 +1411,28 @@ impl<'a> Collapser<'a> {
             if step * step <= self.tie {
                 continue;
             }
-            let clamp = |lift: f64| lift.clamp(-error.sqrt(), error.sqrt());
-            let (lift, p) = match self.options.placement {
-                // On the surface: the vertex keeps its texture point and moves along
-                // the normal there.
+            // The lift counts from the original's point of the vertex's texture
+            // coordinates: where the vertex is, unless an earlier lift (a level of a
+            // hierarchy is decimated from the one below) or `Placement::Optimal` put it
+            // off the surface.
+            let uv = self.texcoord[v as usize];
+            let Some(foot) = self.place(v, v, Choice::Point { uv, lift: 0.0 }) else {
+                continue;
+            };
+            let lift = q
+                .minimize_along(&foot.x, &q.apply(&foot.x), &normal)
+                .0
+                .clamp(-error.sqrt(), error.sqrt());
+            let p = match self.options.placement {
+                // The vertex keeps its texture point and scalar and moves along the
+                // normal there.
                 Placement::Surface => {
-                    let lift = clamp(step);
                     let i = v as usize;
-                    let old = self.position[i].map(f64::from);
+                    let at = foot.position.map(f64::from);
                     let position = [
-                        (old[0] + lift * normal[0]) as f32,
-                        (old[1] + lift * normal[1]) as f32,
-                        (old[2] + lift * normal[2] / self.frame.z_scale) as f32,
+                        (at[0] + lift * normal[0]) as f32,
+                        (at[1] + lift * normal[1]) as f32,
+                        (at[2] + lift * normal[2] / self.frame.z_scale) as f32,
                     ];
                     let (texcoord, scalar) = (self.texcoord[i], self.scalar[i]);
                     let x = self.frame.point(
@@ -1430,30 +1440,20 @@ impl<'a> Collapser<'a> {
                         texcoord.map(f64::from),
                         f64::from(scalar),
                     );
-                    (
-                        lift,
-                        Spot {
-                            x,
-                            position,
-                            texcoord,
-                            scalar,
-                            home,
-                        },
-                    )
+                    Spot {
+                        x,
+                        position,
+                        texcoord,
+                        scalar,
+                        home,
+                    }
                 }
-                // Off the surface already, with the texture point nearest the original:
-                // the lift counts from the surface point of that texture point, and
-                // the lifted vertex takes that of the point nearest it.
+                // It takes the texture point nearest it, as its placement did.
                 Placement::Optimal => {
-                    let uv = self.texcoord[v as usize];
-                    let Some(foot) = self.place(v, v, Choice::Point { uv, lift: 0.0 }) else {
-                        continue;
-                    };
-                    let lift = clamp(q.minimize_along(&foot.x, &q.apply(&foot.x), &normal).0);
                     let Some(p) = self.place(v, v, Choice::point(uv.map(f64::from), lift)) else {
                         continue;
                     };
-                    (lift, p)
+                    p
                 }
             };
             let exact = q.error(&p.x);
