@@ -1386,7 +1386,8 @@ impl<'a> Collapser<'a> {
     /// on the line along the original's normal through its texture point (the normal
     /// of its home triangle), when that lowers its error, stays within it of the
     /// surface and folds nothing. A vertex that no collapse touched has its minimum
-    /// where it is (its triangles' planes all pass through it) and stays.
+    /// where it is (its triangles' planes all pass through it) and stays: its error
+    /// cannot fall.
     fn lift(&mut self) {
         self.rebuild_lists();
         let mesh = self.reference.mesh();
@@ -1404,13 +1405,7 @@ impl<'a> Collapser<'a> {
             }
             let normal: Point = [n[0] / len, n[1] / len, n[2] / len, 0.0, 0.0, 0.0];
             let q = self.q[v as usize];
-            let x = self.x[v as usize];
-            let ax = q.apply(&x);
-            let error = q.error_with(&x, &ax);
-            let (step, _) = q.minimize_along(&x, &ax, &normal);
-            if step * step <= self.tie {
-                continue;
-            }
+            let error = q.error(&self.x[v as usize]);
             // The lift counts from the original's point of the vertex's texture
             // coordinates: where the vertex is, unless an earlier lift (a level of a
             // hierarchy is decimated from the one below) or `Placement::Optimal` put it
@@ -1420,8 +1415,7 @@ impl<'a> Collapser<'a> {
                 continue;
             };
             let lift = q
-                .minimize_along(&foot.x, &q.apply(&foot.x), &normal)
-                .0
+                .minimize_along(&q.apply(&foot.x), &normal)
                 .clamp(-error.sqrt(), error.sqrt());
             let p = match self.options.placement {
                 // The vertex keeps its texture point and scalar and moves along the

@@ -231,17 +231,16 @@ impl Quadric {
         Some((d, value))
     }
 
-    /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
-    /// there, given `A x0` and `A e`.
-    /// Minimum on the whole line `x0 + t e`, as `t` and the quadric's value there,
-    /// given `A x0`; `t = 0` when the quadric is flat along `e`.
-    pub fn minimize_along(&self, x0: &Point, ax0: &Point, e: &Point) -> (f64, f64) {
+    /// The `t` of the minimum on the whole line `x0 + t e`, given `A x0`; 0 when the
+    /// quadric is flat along `e`.
+    pub fn minimize_along(&self, ax0: &Point, e: &Point) -> f64 {
         let h = dot(e, &self.apply(e));
         let g = dot(e, ax0) + dot(e, &self.b);
-        let t = if h > 0.0 { -g / h } else { 0.0 };
-        (t, self.value_with(x0, ax0) + 2.0 * t * g + t * t * h)
+        if h > 0.0 { -g / h } else { 0.0 }
     }
 
+    /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
+    /// there, given `A x0` and `A e`.
     pub fn minimize_on_segment(
         &self,
         x0: &Point,
