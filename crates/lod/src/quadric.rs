@@ -297,6 +297,12 @@ mod tests {
             (t - 0.5).abs() < 1e-12 && (value - 2.0).abs() < 1e-9,
             "{t} {value}"
         );
+        // The whole line past the segment's end: z = 0 again, and nothing to gain
+        // along x, where the quadric is flat.
+        let t = quad.minimize_along(&quad.apply(&x0), &pt(0.0, 0.0, 2.0, 0.0, 0.0, 0.0));
+        assert!((t + 2.5).abs() < 1e-12, "{t}");
+        let flat = quad.minimize_along(&quad.apply(&x0), &pt(1.0, 0.0, 0.0, 0.0, 0.0, 0.0));
+        assert_eq!(flat, 0.0);
         // The plane spanned by x and z: flat along x, so no unique minimum.
         let j = [
             pt(1.0, 0.0, 0.0, 0.0, 0.0, 0.0),
