@@ -231,14 +231,6 @@ impl Quadric {
         Some((d, value))
     }
 
-    /// The `t` of the minimum on the whole line `x0 + t e`, given `A x0`; 0 when the
-    /// quadric is flat along `e`.
-    pub fn minimize_along(&self, ax0: &Point, e: &Point) -> f64 {
-        let h = dot(e, &self.apply(e));
-        let g = dot(e, ax0) + dot(e, &self.b);
-        if h > 0.0 { -g / h } else { 0.0 }
-    }
-
     /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
     /// there, given `A x0` and `A e`.
     pub fn minimize_on_segment(
@@ -297,12 +289,6 @@ mod tests {
             (t - 0.5).abs() < 1e-12 && (value - 2.0).abs() < 1e-9,
             "{t} {value}"
         );
-        // The whole line past the segment's end: z = 0 again, and nothing to gain
-        // along x, where the quadric is flat.
-        let t = quad.minimize_along(&quad.apply(&x0), &pt(0.0, 0.0, 2.0, 0.0, 0.0, 0.0));
-        assert!((t + 2.5).abs() < 1e-12, "{t}");
-        let flat = quad.minimize_along(&quad.apply(&x0), &pt(1.0, 0.0, 0.0, 0.0, 0.0, 0.0));
-        assert_eq!(flat, 0.0);
         // The plane spanned by x and z: flat along x, so no unique minimum.
         let j = [
             pt(1.0, 0.0, 0.0, 0.0, 0.0, 0.0),
