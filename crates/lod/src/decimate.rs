@@ -1448,29 +1448,20 @@ impl<'a> Collapser<'a> {
         let mut in_triangle = std::mem::take(&mut self.mark);
         in_triangle.clear();
         in_triangle.resize(input.vertex_count(), NONE);
-        // Consecutive input vertices are often in the same triangle.
-        let mut last = (NONE, NONE);
         for o in 0..input.vertex_count() as u32 {
             let r = self.representative(o);
             if r == NONE {
                 continue;
             }
             let uv = input.texcoords[o as usize].map(f64::from);
-            let t = if last.0 == r && self.texture_barycentric(last.1, uv).is_some() {
-                last.1
-            } else {
-                let Some(t) = self
-                    .star(r)
-                    .iter()
-                    .copied()
-                    .find(|&t| self.uses(t, r) && self.texture_barycentric(t, uv).is_some())
-                else {
-                    continue;
-                };
-                t
-            };
-            last = (r, t);
-            in_triangle[o as usize] = t;
+            if let Some(t) = self
+                .star(r)
+                .iter()
+                .copied()
+                .find(|&t| self.uses(t, r) && self.texture_barycentric(t, uv).is_some())
+            {
+                in_triangle[o as usize] = t;
+            }
         }
         let mut first = std::mem::take(&mut self.scratch.costs);
         first.clear();
