@@ -41,7 +41,7 @@ use strata_grid::SurfaceMesh;
 
 use crate::quadric::{Point, Quadric};
 use crate::reference::{
-    NONE, Reference, SurfacePoint, VertexTriangles, closest_on_triangle, cross2,
+    NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
 };
 use crate::{Error, Result};
 
@@ -1417,17 +1417,11 @@ impl<'a> Collapser<'a> {
     /// Texture-space barycentric coordinates of `uv` in live triangle `t`, when it is
     /// inside (up to rounding).
     fn texture_barycentric(&self, t: u32, uv: [f64; 2]) -> Option<[f64; 3]> {
-        let [a, b, c] = self.tris[t as usize].map(|v| self.texcoord[v as usize].map(f64::from));
-        let area = cross2(a, b, c);
-        if area == 0.0 {
-            return None;
-        }
-        let w = [
-            cross2(b, c, uv) / area,
-            cross2(c, a, uv) / area,
-            cross2(a, b, uv) / area,
-        ];
-        w.iter().all(|&x| x >= -1e-9).then_some(w)
+        barycentric(
+            self.tris[t as usize].map(|v| self.texcoord[v as usize].map(f64::from)),
+            uv,
+        )
+        .filter(|w| w.iter().all(|&x| x >= -1e-9))
     }
 
     /// [`Options::lift`], no vertex's quadric error going over `max_cost`. The samples

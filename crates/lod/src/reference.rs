@@ -255,7 +255,15 @@ pub fn closest_on_triangle(p: [f64; 3], t: [[f64; 3]; 3]) -> (f64, [f64; 3]) {
 /// Barycentric coordinates of `uv` in triangle `t` of `mesh`, in texture space;
 /// `None` for a triangle of zero texture area.
 pub(crate) fn texture_barycentric(mesh: &SurfaceMesh, t: u32, uv: [f64; 2]) -> Option<[f64; 3]> {
-    let c = mesh.triangles[t as usize].map(|v| mesh.texcoords[v as usize].map(f64::from));
+    barycentric(
+        mesh.triangles[t as usize].map(|v| mesh.texcoords[v as usize].map(f64::from)),
+        uv,
+    )
+}
+
+/// Barycentric coordinates of `uv` in the texture-space triangle `c`, `None` when it
+/// has no area.
+pub(crate) fn barycentric(c: [[f64; 2]; 3], uv: [f64; 2]) -> Option<[f64; 3]> {
     let area = cross2(c[0], c[1], c[2]);
     if area == 0.0 || !area.is_finite() {
         return None;
