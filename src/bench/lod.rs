@@ -31,9 +31,9 @@
 //! triangles, all in one thread (so per core; decimation itself is sequential) and ours
 //! also on all cores across layer surfaces; CPU seconds beside wall seconds, since the
 //! machine may be shared. An input that takes under half a CPU second runs again
-//! until it has taken that much, and its row gives the mean per run. Our
-//! stages (reference, setup, evaluating, collapsing, the final lift) are timed for profiling. Peak
-//! memory is the process's VmHWM at the end.
+//! until it has taken that much, and its row gives the mean per run. Our stages
+//! (reference, setup, evaluating, collapsing, the final lift) are timed for
+//! profiling. Peak memory is the process's VmHWM at the end.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

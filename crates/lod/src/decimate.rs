@@ -1424,16 +1424,11 @@ impl<'a> Collapser<'a> {
         .filter(|w| w.iter().all(|&x| x >= -1e-9))
     }
 
-    /// [`Options::lift`], no vertex's quadric error going over `max_cost`. The samples
-    /// are the input's vertices, each found by its texture coordinates among the
-    /// triangles of the live vertex it was merged into (one found in none of them is
-    /// left out: 0.6 % on a generated layer). Each interior vertex in turn then moves
-    /// along the original's normal at its texture point (that of its home triangle)
-    /// to where the simplified surface, linear in its triangles, is nearest the
-    /// samples in them (one Gauss-Seidel sweep of the least-squares fit), when that
-    /// stays within the vertex's error of the original and folds nothing.
-    fn lift(&mut self, max_cost: f64) {
-        self.rebuild_lists();
+    /// The input's vertices by the live triangle each lies in (texture space), in
+    /// compressed rows: triangle `t`'s are `samples[first[t]..first[t + 1]]`. Each is
+    /// looked for among the triangles of the live vertex it was merged into, and left
+    /// out when in none of them. Needs the vertex lists rebuilt.
+    fn samples_by_triangle(&mut self) -> (Vec<u32>, Vec<u32>) {
         let input = self.input;
         // Buffers of the passes, done with, hold the samples (fresh ones of the mesh's
         // size would be page-faulted in): per input vertex its triangle (`mark`), the
@@ -1476,7 +1471,20 @@ impl<'a> Collapser<'a> {
             samples[cursor[t as usize] as usize] = o as u32;
             cursor[t as usize] += 1;
         }
+        (first, samples)
+    }
 
+    /// [`Options::lift`], no vertex's quadric error going over `max_cost`. The samples
+    /// are the input's vertices ([`Collapser::samples_by_triangle`]; 0.6 % are left
+    /// out on a generated layer). Each interior vertex in turn moves
+    /// along the original's normal at its texture point (that of its home triangle)
+    /// to where the simplified surface, linear in its triangles, is nearest the
+    /// samples in them (one Gauss-Seidel sweep of the least-squares fit), when that
+    /// stays within the vertex's error of the original and folds nothing.
+    fn lift(&mut self, max_cost: f64) {
+        self.rebuild_lists();
+        let (first, samples) = self.samples_by_triangle();
+        let input = self.input;
         let mesh = self.reference.mesh();
         for v in 0..self.flags.len() as u32 {
             let (f, home) = (self.flags[v as usize], self.home[v as usize]);

@@ -28,6 +28,11 @@ fn decimate_with(mesh: &SurfaceMesh, fraction: f64, placement: Placement, lift: 
     decimate(mesh, &options).expect("decimate")
 }
 
+/// The second layer surface of a generated faulted 40 x 30 grid.
+fn faulted_layer() -> SurfaceMesh {
+    layer(&faulted_grid(40, 30), 1)
+}
+
 fn decimate_to(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
     decimate_with(mesh, fraction, Placement::Surface, true)
 }
@@ -218,8 +223,7 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
 
 #[test]
 fn faulted_layer_keeps_its_wireframe_at_ten_percent() {
-    let grid = faulted_grid(40, 30);
-    let original = layer(&grid, 1);
+    let original = faulted_layer();
     let out = decimate_to(&original, 0.1);
     let target = (original.triangle_count() as f64 * 0.1).round() as usize;
     assert!(
@@ -238,8 +242,7 @@ fn faulted_layer_keeps_its_wireframe_at_ten_percent() {
 
 #[test]
 fn optimal_placement_keeps_texture_coordinates_of_the_nearest_original_point() {
-    let grid = faulted_grid(40, 30);
-    let original = layer(&grid, 1);
+    let original = faulted_layer();
     let out = decimate_with(&original, 0.1, Placement::Optimal, true);
     let new = check_placed(&original, &out, Rule::Nearest);
     assert!(new > 10, "collapses should place new vertices ({new})");
@@ -249,8 +252,7 @@ fn optimal_placement_keeps_texture_coordinates_of_the_nearest_original_point() {
 
 #[test]
 fn surface_placement_without_the_lift_keeps_every_vertex_on_the_original() {
-    let grid = faulted_grid(40, 30);
-    let original = layer(&grid, 1);
+    let original = faulted_layer();
     let out = decimate_with(&original, 0.1, Placement::Surface, false);
     let new = check_placed(&original, &out, Rule::OnSurface);
     assert!(new > 10, "collapses should place new vertices ({new})");
@@ -258,8 +260,7 @@ fn surface_placement_without_the_lift_keeps_every_vertex_on_the_original() {
 
 #[test]
 fn the_lift_brings_the_grid_lines_closer_to_the_original() {
-    let grid = faulted_grid(40, 30);
-    let original = layer(&grid, 1);
+    let original = faulted_layer();
     for placement in [Placement::Surface, Placement::Optimal] {
         let flat = decimate_with(&original, 0.1, placement, false);
         let lifted = decimate_with(&original, 0.1, placement, true);
