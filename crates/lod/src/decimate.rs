@@ -239,6 +239,38 @@ const LOCKED: u8 = 4;
 /// The vertex was placed by a collapse (its data is no longer the input's).
 const MOVED: u8 = 8;
 
+/// How far ahead (in triangles) `Collapser::gather` asks for the vertex data it will
+/// evaluate. Its stream crosses a 4 KiB page every 17 quadrics, and hardware
+/// prefetchers stop at page boundaries: the loads of a new page's quadrics stalled
+/// the evaluation (three quarters of the time of summing two quadrics went to its first
+/// loads). Measured on generated layers to 10 %, evaluate stage, none -> 32 ahead:
+/// 0.80-0.82 -> 0.73-0.75 s at 1000 x 1000, 3.56-3.62 -> 3.29-3.31 s at 2000 x 2000;
+/// 4 to 128 ahead all gained, 16 to 64 the most.
+const PREFETCH_TRIANGLES: usize = 32;
+
+/// Asks for the cache lines of `item` ahead of its use (a no-op off x86-64).
+#[inline(always)]
+fn prefetch<T>(item: &T) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        let start = std::ptr::from_ref(item).cast::<i8>();
+        let size = std::mem::size_of::<T>();
+        // Each line the item touches: every 64 bytes from its start, and its last byte.
+        let mut offset = 0;
+        while offset < size {
+            // SAFETY: a prefetch is a hint that never faults, and the address lies
+            // within `item`.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(offset)) };
+            offset += 64;
+        }
+        if size > 0 {
+            // SAFETY: as above.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(start.wrapping_add(size - 1)) };
+        }
+    }
+}
+
 /// Marks a dead triangle in its first corner.
 const DEAD: u32 = u32::MAX;
 
@@ -1152,6 +1184,14 @@ impl<'a> Collapser<'a> {
         let mut candidates = std::mem::take(&mut self.candidates);
         candidates.clear();
         for t in 0..self.tris.len() {
+            if let Some(ahead) = self.tris.get(t + PREFETCH_TRIANGLES)
+                && ahead[0] != DEAD
+            {
+                for &v in ahead {
+                    prefetch(&self.q[v as usize]);
+                    prefetch(&self.x[v as usize]);
+                }
+            }
             let tri = self.tris[t];
             if tri[0] == DEAD {
                 continue;
