@@ -189,7 +189,8 @@ pub struct Timings {
     pub reference: f64,
     /// Quadrics, boundary and vertex lists.
     pub setup: f64,
-    /// Evaluating every edge, each pass.
+    /// Evaluating every edge, each pass (and renumbering the live vertices first,
+    /// once enough are gone).
     pub evaluate: f64,
     /// Choosing and making the collapses (sorting included), each pass.
     pub collapse: f64,
@@ -270,6 +271,16 @@ fn prefetch<T>(item: &T) {
         }
     }
 }
+
+/// A pass starts by renumbering the live vertices densely ([`Collapser::compact`])
+/// when fewer than this fraction (numerator, denominator) of the vertex slots are
+/// live: later passes then stream through arrays of live data only, instead of one
+/// live vertex in every few cache lines. Measured on generated layers to 10 %
+/// (never -> below 1/2 -> below 0.7 -> below 0.9): 1.96 -> 1.86 -> 1.82-1.85 ->
+/// 1.82-1.86 CPU s at 1000 x 1000 (collapse 0.62 -> 0.57 -> 0.52 -> 0.51-0.53 s,
+/// lift 0.17 -> 0.12 -> 0.11 s; the renumbering itself counts as evaluation),
+/// 9.34 -> 8.62 -> 8.56 CPU s at 2000 x 2000 (never, 0.7, 0.9).
+const COMPACT_BELOW: (usize, usize) = (7, 10);
 
 /// Marks a dead triangle in its first corner.
 const DEAD: u32 = u32::MAX;
@@ -503,9 +514,17 @@ struct Collapser<'a> {
     busy: Vec<bool>,
     /// Per vertex, in a round of local minima, the cheapest open candidate at it.
     cheapest: Vec<u32>,
-    /// Per removed vertex, the vertex it was collapsed onto: the way to a live vertex
-    /// near where it was, for the final fit.
+    /// Per vertex, the input vertex it began as: passes renumber the live vertices
+    /// ([`Collapser::compact`]).
+    original: Vec<u32>,
+    // Per input vertex.
+    /// Its index now, or [`NONE`] once it is removed.
+    current: Vec<u32>,
+    /// Per removed input vertex, the input vertex it was collapsed onto: the way to a
+    /// live vertex near where it was, for the final fit.
     merged_into: Vec<u32>,
+    /// [`COMPACT_BELOW`].
+    compact_below: (usize, usize),
     /// Rounds of local minima per pass: [`LOCAL_ROUNDS`] on meshes of more than
     /// [`LOCAL_VERTICES`], else none.
     rounds: usize,
@@ -516,6 +535,8 @@ struct Collapser<'a> {
     tris: Vec<[u32; 3]>,
     uv_sign: Vec<i8>,
     live: usize,
+    /// Vertices in a live triangle.
+    live_vertices: usize,
     /// Vertex-to-triangle lists of live triangles, in compressed rows, rebuilt at the
     /// start of each pass. During a pass a list can hold triangles that died or no
     /// longer use the vertex (they are skipped), and never misses one, except for the
@@ -691,6 +712,7 @@ impl<'a> Collapser<'a> {
             if k > 0 { sum / k as f64 } else { 1.0 }
         };
 
+        let live_vertices = flags.iter().filter(|&&f| f & ALIVE != 0).count();
         Ok(Collapser {
             input: mesh,
             reference,
@@ -710,12 +732,16 @@ impl<'a> Collapser<'a> {
             flags,
             busy: vec![false; n],
             cheapest: vec![u32::MAX; n],
+            original: (0..n as u32).collect(),
+            current: (0..n as u32).collect(),
             merged_into: vec![NONE; n],
+            compact_below: COMPACT_BELOW,
             rounds: if n > LOCAL_VERTICES { LOCAL_ROUNDS } else { 0 },
             scratch: Scratch::default(),
             tris: mesh.triangles.clone(),
             uv_sign,
             live: mesh.triangle_count(),
+            live_vertices,
             start: vt.start,
             refs: vt.triangles,
             candidates: Vec::new(),
@@ -1141,11 +1167,78 @@ impl<'a> Collapser<'a> {
             self.flags[k] |= MOVED;
         }
         self.flags[g] &= !ALIVE;
-        self.merged_into[g] = keep;
+        self.live_vertices -= 1;
+        let gone_input = self.original[g] as usize;
+        self.merged_into[gone_input] = self.original[k];
+        self.current[gone_input] = NONE;
         // `keep`'s list now misses `gone`'s triangles: leave it alone until rebuilt.
         self.busy[k] = true;
         self.busy[g] = true;
         self.collapses += 1;
+    }
+
+    /// Renumbers the live vertices and triangles densely, in their order, once fewer
+    /// than [`COMPACT_BELOW`] of the vertex slots are live. Order is kept, so the
+    /// result is the same, bit for bit, as without it.
+    fn compact(&mut self) {
+        let n = self.flags.len();
+        let (num, den) = self.compact_below;
+        if den * self.live_vertices >= num * n {
+            return;
+        }
+        let mut new_index = std::mem::take(&mut self.mark);
+        let mut m = 0u32;
+        for (v, f) in self.flags.iter().enumerate() {
+            new_index[v] = if f & ALIVE != 0 {
+                m += 1;
+                m - 1
+            } else {
+                NONE
+            };
+        }
+        let m = m as usize;
+        fn squeeze<T: Copy>(data: &mut Vec<T>, new_index: &[u32], m: usize) {
+            for (v, &to) in new_index.iter().enumerate() {
+                if to != NONE {
+                    data[to as usize] = data[v];
+                }
+            }
+            data.truncate(m);
+        }
+        for (v, &to) in new_index.iter().enumerate() {
+            if to == NONE {
+                // Unused input vertices (in no triangle) leave too.
+                self.current[self.original[v] as usize] = NONE;
+            }
+        }
+        squeeze(&mut self.x, &new_index, m);
+        squeeze(&mut self.q, &new_index, m);
+        squeeze(&mut self.position, &new_index, m);
+        squeeze(&mut self.texcoord, &new_index, m);
+        squeeze(&mut self.scalar, &new_index, m);
+        squeeze(&mut self.home, &new_index, m);
+        squeeze(&mut self.flags, &new_index, m);
+        squeeze(&mut self.original, &new_index, m);
+        for (v, &o) in self.original.iter().enumerate() {
+            self.current[o as usize] = v as u32;
+        }
+        let mut t_new = 0;
+        for t in 0..self.tris.len() {
+            let tri = self.tris[t];
+            if tri[0] != DEAD {
+                self.tris[t_new] = tri.map(|v| new_index[v as usize]);
+                self.uv_sign[t_new] = self.uv_sign[t];
+                t_new += 1;
+            }
+        }
+        self.tris.truncate(t_new);
+        self.uv_sign.truncate(t_new);
+        self.busy.truncate(m);
+        self.cheapest.truncate(m);
+        self.start.truncate(m + 1);
+        new_index.truncate(m);
+        new_index.fill(0);
+        self.mark = new_index;
     }
 
     /// Rebuilds the vertex lists from the live triangles, into the same buffers.
@@ -1234,6 +1327,7 @@ impl<'a> Collapser<'a> {
         floor: f64,
     ) -> (usize, Option<f64>) {
         let start = Instant::now();
+        self.compact();
         self.rebuild_lists();
         self.busy.iter_mut().for_each(|b| *b = false);
         self.gather();
@@ -1439,7 +1533,7 @@ impl<'a> Collapser<'a> {
     /// collapses (shortened on the way), or [`NONE`] for a vertex of no triangle.
     fn representative(&mut self, v: u32) -> u32 {
         let mut r = v;
-        while self.flags[r as usize] & ALIVE == 0 {
+        while self.current[r as usize] == NONE {
             r = self.merged_into[r as usize];
             if r == NONE {
                 return NONE;
@@ -1451,7 +1545,12 @@ impl<'a> Collapser<'a> {
             self.merged_into[w as usize] = r;
             w = next;
         }
-        r
+        let live = self.current[r as usize];
+        if self.flags[live as usize] & ALIVE == 0 {
+            NONE
+        } else {
+            live
+        }
     }
 
     /// Texture-space barycentric coordinates of `uv` in live triangle `t`, when it is
@@ -1659,7 +1758,7 @@ impl<'a> Collapser<'a> {
             source.push(if self.flags[v] & MOVED != 0 {
                 NEW
             } else {
-                v as u32
+                self.original[v]
             });
             home.push(self.home[v]);
         }
@@ -1741,6 +1840,44 @@ mod tests {
                 assert_eq!(local.mesh.positions[v], mesh.positions[s as usize]);
             }
         }
+    }
+
+    #[test]
+    fn renumbering_the_live_vertices_changes_nothing() {
+        // A bumpy grid with a hole, so that vertices of no triangle and boundaries are
+        // renumbered too; the fit follows the merges across renumberings.
+        let mut mesh = SurfaceMesh::structured(60, 60, |i, j| {
+            let (x, y) = (i as f32, j as f32);
+            [10.0 * x, 10.0 * y, 6.0 * (0.3 * x).sin() * (0.2 * y).cos()]
+        });
+        let hole = |v: u32| {
+            let p = mesh.positions[v as usize];
+            (200.0..=300.0).contains(&p[0]) && (250.0..=350.0).contains(&p[1])
+        };
+        let kept: Vec<[u32; 3]> = (mesh.triangles.iter().copied())
+            .filter(|t| !t.iter().all(|&v| hole(v)))
+            .collect();
+        mesh.triangles = kept;
+        mesh.cell_faces.clear();
+        let options = Options::fraction(&mesh, 0.1);
+        let reference = Reference::new(&mesh).unwrap();
+        let home = reference.vertex_triangle.clone();
+        let run = |compact_below: (usize, usize)| {
+            let mut collapser =
+                Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
+            collapser.compact_below = compact_below;
+            collapser.run().unwrap()
+        };
+        let (never, always) = (run((0, 1)), run((1, 1)));
+        assert!(never.mesh.triangle_count() <= options.target_triangles);
+        assert_eq!(never.mesh.positions, always.mesh.positions);
+        assert_eq!(never.mesh.texcoords, always.mesh.texcoords);
+        assert_eq!(never.mesh.triangles, always.mesh.triangles);
+        assert_eq!(never.source, always.source);
+        assert_eq!(never.home, always.home);
+        assert_eq!(never.error, always.error);
+        // The fit moved vertices (else it would not test the merges' bookkeeping).
+        assert!(always.source.iter().filter(|&&s| s == NEW).count() > 10);
     }
 
     #[test]
