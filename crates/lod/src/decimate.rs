@@ -249,6 +249,14 @@ const MOVED: u8 = 8;
 /// 4 to 128 ahead all gained, 16 to 64 the most.
 const PREFETCH_TRIANGLES: usize = 32;
 
+/// How far ahead (in collapses) a round of local minima asks for the data of the
+/// collapses it will try ([`Collapser::prefetch_collapse`]). Late passes collapse
+/// vertices whose homes lie far apart on the full-resolution reference surface, so
+/// each collapse began with misses there. Measured on generated layers to 10 %,
+/// collapse stage, none -> 8 ahead: 0.54-0.55 -> 0.47-0.49 s at 1000 x 1000,
+/// 2.89 -> 2.39-2.60 s at 2000 x 2000 (4 and 16 ahead the same).
+const PREFETCH_COLLAPSES: usize = 8;
+
 /// Asks for the cache lines of `item` ahead of its use (a no-op off x86-64).
 #[inline(always)]
 fn prefetch<T>(item: &T) {
@@ -1441,9 +1449,14 @@ impl<'a> Collapser<'a> {
             minima.retain(|&i| rank(&self.candidates[i as usize], i) <= limit);
             self.scratch.ranks = ranks;
         }
-        for &i in &minima {
+        for (n, &i) in minima.iter().enumerate() {
             if self.live <= target {
                 break;
+            }
+            if let Some(&ahead) = minima.get(n + PREFETCH_COLLAPSES) {
+                let c = &self.candidates[ahead as usize];
+                self.prefetch_collapse(c.a);
+                self.prefetch_collapse(c.b);
             }
             let c = self.candidates[i as usize];
             self.try_collapse(c.a, c.b, c.choice, bound);
@@ -1460,6 +1473,24 @@ impl<'a> Collapser<'a> {
             }
         });
         self.scratch.minima = minima;
+    }
+
+    /// Asks for what a collapse at `v` reads first: its quadric, joint point, vertex
+    /// list, and its home triangle on the reference surface (where the walk to a new
+    /// point starts) with that triangle's neighbours.
+    fn prefetch_collapse(&self, v: u32) {
+        let v = v as usize;
+        prefetch(&self.q[v]);
+        prefetch(&self.x[v]);
+        prefetch(&self.start[v]);
+        let home = self.home[v] as usize;
+        if let (Some(tri), Some(adjacent)) = (
+            self.reference.mesh().triangles.get(home),
+            self.reference.adjacency.get(home),
+        ) {
+            prefetch(tri);
+            prefetch(adjacent);
+        }
     }
 
     /// Collapses `a b` as `choice` says (or onto an endpoint when the new point is
