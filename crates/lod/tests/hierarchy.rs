@@ -314,3 +314,59 @@ fn reek_hierarchy_is_crack_free() {
     let tree = build_layer(&mesh, [d.nx as u32, d.ny as u32], &options(8)).unwrap();
     assert!(assert_crack_free(&tree, &mesh) > 50);
 }
+
+/// Damage anywhere (a few random bytes of a saved file overwritten, a thousand times
+/// over) is an error or data that reads back wrong, never a panic: the tables are
+/// checked when the file opens and indices when a node's mesh is read.
+#[test]
+fn random_damage_never_panics() {
+    let grid = faulted_grid(12, 10);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("small.lod");
+    build_file(&grid, None, &path, &options(4)).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    // A fixed linear congruential sequence: the same damage on every run.
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 33) as usize
+    };
+    let view = ViewPoint {
+        eye: [0.0, 0.0, 1e4],
+        z_scale: 5.0,
+        fov_y_deg: 35.0,
+        height_px: 800,
+    };
+    let (mut opened, mut refused) = (0, 0);
+    for round in 0..1000 {
+        let mut damaged = bytes.clone();
+        for _ in 0..1 + round % 4 {
+            let at = next() % damaged.len();
+            damaged[at] = next() as u8;
+        }
+        std::fs::write(&path, &damaged).unwrap();
+        let read = std::panic::catch_unwind(|| {
+            let file = LodFile::open(&path).ok()?;
+            for max_pixels in [1.0, 4.0, 1e9] {
+                let selection = file.select(&view, max_pixels);
+                let _ = file.selection_mesh(&selection);
+            }
+            for i in 0..file.nodes().len() {
+                let _ = file.mesh(i);
+            }
+            Some(())
+        });
+        match read {
+            Ok(Some(())) => opened += 1,
+            Ok(None) => refused += 1,
+            Err(_) => panic!("round {round}: reading the damaged file panicked"),
+        }
+    }
+    // Both paths ran: damage in the tables is refused, damage in vertex data is not.
+    assert!(
+        opened > 0 && refused > 0,
+        "{opened} opened, {refused} refused"
+    );
+}
