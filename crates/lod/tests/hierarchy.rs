@@ -281,13 +281,20 @@ fn file_does_not_depend_on_the_thread_count() {
     }
 }
 
-#[test]
-fn damaged_files_are_errors() {
+/// A small faulted model's hierarchy saved in a fresh folder (kept while the first
+/// value lives): the file's path and its bytes, for tests that damage it.
+fn small_saved_file() -> (tempfile::TempDir, std::path::PathBuf, Vec<u8>) {
     let grid = faulted_grid(12, 10);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("small.lod");
     build_file(&grid, None, &path, &options(4)).unwrap();
     let bytes = std::fs::read(&path).unwrap();
+    (dir, path, bytes)
+}
+
+#[test]
+fn damaged_files_are_errors() {
+    let (_dir, path, bytes) = small_saved_file();
     for cut in [0, 7, 40, bytes.len() / 2, bytes.len() - 1] {
         std::fs::write(&path, &bytes[..cut]).unwrap();
         assert!(LodFile::open(&path).is_err(), "cut at {cut}");
@@ -320,11 +327,7 @@ fn reek_hierarchy_is_crack_free() {
 /// checked when the file opens and indices when a node's mesh is read.
 #[test]
 fn random_damage_never_panics() {
-    let grid = faulted_grid(12, 10);
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("small.lod");
-    build_file(&grid, None, &path, &options(4)).unwrap();
-    let bytes = std::fs::read(&path).unwrap();
+    let (_dir, path, bytes) = small_saved_file();
     // A fixed linear congruential sequence: the same damage on every run.
     let mut state = 12345u64;
     let mut next = || {
