@@ -60,19 +60,29 @@ pub fn build(
     let range = property.and_then(|name| {
         let values = grid.property(name)?;
         // Over the active cells only: inactive ones often hold zeros.
-        let (lo, hi) = values
-            .slice(s![layers.clone(), .., ..])
-            .iter()
-            .zip(grid.actnum.slice(s![layers.clone(), .., ..]).iter())
-            .filter(|&(v, &active)| active && v.is_finite())
-            .map(|(v, _)| v)
-            .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(*v), hi.max(*v))
-            });
-        (lo <= hi).then_some((lo, if hi > lo { hi } else { lo + 1.0 }))
+        colour_range(
+            values
+                .slice(s![layers.clone(), .., ..])
+                .iter()
+                .zip(grid.actnum.slice(s![layers.clone(), .., ..]).iter())
+                .filter(|&(_, &active)| active)
+                .map(|(&v, _)| v),
+        )
     });
     if options.flat_cells && property.is_some() {
         mesh = mesh.with_cell_values();
     }
     Ok((mesh, range))
+}
+
+/// The range of the finite `values` that a colour map spans, one unit wide when they
+/// are all equal; `None` when there is none.
+pub fn colour_range(values: impl IntoIterator<Item = f32>) -> Option<(f32, f32)> {
+    let (lo, hi) = values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    (lo <= hi).then_some((lo, if hi > lo { hi } else { lo + 1.0 }))
 }

@@ -446,14 +446,7 @@ impl Scene {
                 bounds,
             })
             .collect();
-        let range = original
-            .scalars
-            .iter()
-            .filter(|s| s.is_finite())
-            .fold(None, |r: Option<(f32, f32)>, &s| {
-                Some(r.map_or((s, s), |(a, b)| (a.min(s), b.max(s))))
-            })
-            .map(|(a, b)| (a, if b > a { b } else { a + 1.0 }));
+        let range = crate::scene::colour_range(original.scalars.iter().copied());
         Some(Scene { views, range })
     }
 
