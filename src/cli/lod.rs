@@ -33,13 +33,17 @@ pub struct BuildArgs {
     /// Vertical exaggeration the hierarchy will be viewed with (weighs vertical error).
     #[arg(long, default_value_t = 5.0)]
     zscale: f32,
+    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
+    #[arg(long = "props", value_name = "FILE")]
+    props: Vec<PathBuf>,
     /// Property stored as the vertices' scalar (default: PORO when the model has it).
     #[arg(long)]
     property: Option<String>,
     /// Store no scalar.
     #[arg(long, conflicts_with = "property")]
     no_property: bool,
-    /// Read the grid only (e.g. decks whose property INCLUDE files are missing).
+    /// Read the grid only (e.g. decks whose property INCLUDE files are missing); the
+    /// decks given with --props are still added.
     #[arg(long)]
     grid_only: bool,
 }
@@ -83,8 +87,9 @@ fn build(args: &BuildArgs) -> Result<()> {
         grid_only: args.grid_only,
         ..strata::grid::ReadOptions::default()
     };
-    let grid = strata::grid::open_with(&args.model, &options)
+    let mut grid = strata::grid::open_with(&args.model, &options)
         .with_context(|| format!("reading {}", args.model.display()))?;
+    super::add_properties(&mut grid, &args.model, &args.props)?;
     let read = start.elapsed().as_secs_f64();
     let property = if args.no_property {
         None

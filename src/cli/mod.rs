@@ -16,8 +16,15 @@ pub mod terrain;
 pub fn open_model(model: Option<&Path>, props: &[PathBuf]) -> Result<(PathBuf, CornerPointGrid)> {
     let path = model.map_or_else(crate::sample_model, Path::to_path_buf);
     let mut grid = strata::grid::open(&path)?;
+    add_properties(&mut grid, &path, props)?;
+    Ok((path, grid))
+}
+
+/// Adds to `grid`, read from `path`, the per-cell arrays of each property deck in
+/// `props`.
+pub fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) -> Result<()> {
     for deck in props {
-        strata::grid::grdecl::read_properties(&mut grid, deck).with_context(|| {
+        strata::grid::grdecl::read_properties(grid, deck).with_context(|| {
             format!(
                 "adding the properties of {} to {}",
                 deck.display(),
@@ -25,5 +32,5 @@ pub fn open_model(model: Option<&Path>, props: &[PathBuf]) -> Result<(PathBuf, C
             )
         })?;
     }
-    Ok((path, grid))
+    Ok(())
 }
