@@ -10,6 +10,7 @@ use strata::grid::SurfaceMesh;
 use strata::lod::{BuildOptions, LodFile, Options, ViewPoint, build_file, decimate};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
+use strata::scene::colour_range;
 
 #[derive(Subcommand)]
 pub enum LodCommand {
@@ -158,14 +159,21 @@ fn view(args: &ViewArgs) -> Result<()> {
     }
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let (az, el, dist) = args.view;
-    let camera = Camera::fit(
-        bounds.0,
-        bounds.1,
+    // The roots' vertices, not their boxes, frame the model: a grid rotated in map
+    // coordinates fills a fraction of its box.
+    let root_vertices = || roots.iter().flat_map(|&r| file.vertices(r as usize));
+    let camera = Camera::fit_points(
+        root_vertices().map(|v| Vec3::from(v.position)),
         args.zscale,
         args.size.0 as f32 / args.size.1 as f32,
         (az, el),
         dist,
     );
+    // Colours span the roots' scalars, so that they do not change with the view.
+    let scalar_range = file
+        .has_scalars()
+        .then(|| colour_range(root_vertices().map(|v| v.scalar)))
+        .flatten();
     let point = ViewPoint {
         eye: camera.eye.to_array(),
         z_scale: args.zscale,
@@ -210,12 +218,19 @@ fn view(args: &ViewArgs) -> Result<()> {
             height: args.size.1,
             bounds,
         };
-        let image = renderer.render(&[drawable.as_ref()], &view, &Style::default())?;
+        let style = Style {
+            scalar_range,
+            ..Style::default()
+        };
+        let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
         strata::render::save_png(&image, output)?;
         eprintln!(
-            "{}: drawn with the {} wireframe",
+            "{}: drawn with the {} wireframe, {}",
             output.display(),
-            args.wire.name()
+            args.wire.name(),
+            scalar_range.map_or("no scalar".to_string(), |(a, b)| format!(
+                "coloured by the stored scalar {a:.4}..{b:.4}"
+            ))
         );
     }
     Ok(())

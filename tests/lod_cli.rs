@@ -1,0 +1,155 @@
+//! `strata lod build` and `strata lod view` run as a user runs them: a property deck
+//! given beside the model is stored in the hierarchy, and the view is coloured by it
+//! and framed on the model.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use strata::render::image;
+
+fn strata(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .output()
+        .expect("the strata binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Builds the hierarchy of the sample with `options`, views it and returns what the
+/// view printed and its picture.
+fn build_and_view(dir: &Path, name: &str, options: &[&str]) -> (String, image::RgbaImage) {
+    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
+    let lod = dir.join(format!("{name}.lod"));
+    let png = dir.join(format!("{name}.png"));
+    let (sample, lod_s, png_s) = (
+        sample.to_str().expect("a UTF-8 path"),
+        lod.to_str().expect("a UTF-8 path"),
+        png.to_str().expect("a UTF-8 path"),
+    );
+    let mut build = vec!["lod", "build", sample, "-o", lod_s];
+    build.extend_from_slice(options);
+    let built = strata(&build);
+    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    let viewed = strata(&["lod", "view", lod_s, "--size", "400x300", "-o", png_s]);
+    assert!(viewed.status.success(), "lod view: {}", stderr(&viewed));
+    let picture = image::open(&png).expect("the view wrote a PNG").to_rgba8();
+    (stderr(&viewed), picture)
+}
+
+/// Pixels that are not the white background, the share of them that are strongly
+/// coloured (the colour map, not the grey-beige solid colour or the dark lines), and
+/// the share of the frame's width and height their bounding box spans.
+fn measure(picture: &image::RgbaImage) -> (usize, f64, f64, f64) {
+    let (w, h) = picture.dimensions();
+    let (mut model, mut coloured) = (0usize, 0usize);
+    let (mut x0, mut x1, mut y0, mut y1) = (w, 0, h, 0);
+    for (x, y, p) in picture.enumerate_pixels() {
+        let [r, g, b, _] = p.0;
+        if r.min(g).min(b) > 245 {
+            continue;
+        }
+        model += 1;
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        if i32::from(r.max(g).max(b)) - i32::from(r.min(g).min(b)) > 60 {
+            coloured += 1;
+        }
+    }
+    let span = |a: u32, b: u32, n: u32| {
+        if b >= a {
+            f64::from(b - a + 1) / f64::from(n)
+        } else {
+            0.0
+        }
+    };
+    (
+        model,
+        coloured as f64 / model.max(1) as f64,
+        span(x0, x1, w),
+        span(y0, y1, h),
+    )
+}
+
+#[test]
+fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    // MARK rises along i over the sample's 36 x 24 x 6 cells (GRDECL order: i fastest).
+    let deck = dir.path().join("mark.grdecl");
+    let values: Vec<String> = (0..36 * 24 * 6)
+        .map(|c| format!("{:.4}", f64::from(c % 36) / 35.0))
+        .collect();
+    std::fs::write(&deck, format!("MARK\n{}\n/\n", values.join("\n"))).expect("write the deck");
+    let deck = deck.to_str().expect("a UTF-8 path");
+
+    let (printed, picture) =
+        build_and_view(dir.path(), "mark", &["--props", deck, "--property", "MARK"]);
+    let (model, coloured, width, height) = measure(&picture);
+    eprintln!(
+        "{printed}\nMARK: {model} model pixels, {:.1} % coloured, spanning {:.0} % x {:.0} % of the frame",
+        100.0 * coloured,
+        100.0 * width,
+        100.0 * height
+    );
+    assert!(
+        printed.contains("coloured by the stored scalar"),
+        "{printed}"
+    );
+    assert!(model > 400 * 300 / 5, "{model} model pixels");
+    assert!(
+        coloured > 0.3,
+        "{:.1} % of the model coloured",
+        100.0 * coloured
+    );
+    // Framed on the model as `strata render` frames it, not on a box around it (which
+    // leaves the sample some 60 % of the frame's width).
+    let png = dir.path().join("render.png");
+    let rendered = strata(&[
+        "render",
+        "--size",
+        "400x300",
+        "-o",
+        png.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(rendered.status.success(), "render: {}", stderr(&rendered));
+    let (_, _, render_width, render_height) =
+        measure(&image::open(&png).expect("render wrote a PNG").to_rgba8());
+    assert!(
+        (width - render_width).abs() < 0.03 && (height - render_height).abs() < 0.03,
+        "lod view spans {width:.2} x {height:.2}, render {render_width:.2} x {render_height:.2}"
+    );
+
+    let (printed, picture) = build_and_view(dir.path(), "plain", &["--no-property"]);
+    let (_, coloured, _, _) = measure(&picture);
+    eprintln!("no property: {:.1} % coloured", 100.0 * coloured);
+    assert!(printed.contains("no scalar"), "{printed}");
+    assert!(
+        coloured < 0.05,
+        "{:.1} % of the model coloured",
+        100.0 * coloured
+    );
+}
+
+#[test]
+fn a_missing_property_deck_is_named() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
+    let lod = dir.path().join("never.lod");
+    let out = strata(&[
+        "lod",
+        "build",
+        sample.to_str().expect("a UTF-8 path"),
+        "--props",
+        "no/such/deck.grdecl",
+        "-o",
+        lod.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("no/such/deck.grdecl"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(!lod.exists(), "no hierarchy is written");
+}
