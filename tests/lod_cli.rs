@@ -2,7 +2,7 @@
 //! given beside the model is stored in the hierarchy, and the view is coloured by it
 //! and framed on the model.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use strata::render::image;
@@ -14,6 +14,11 @@ fn strata(args: &[&str]) -> Output {
         .expect("the strata binary runs")
 }
 
+/// The sample model of `data/`.
+fn sample() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl")
+}
+
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
@@ -21,7 +26,7 @@ fn stderr(out: &Output) -> String {
 /// Builds the hierarchy of the sample with `options`, views it and returns what the
 /// view printed and its picture.
 fn build_and_view(dir: &Path, name: &str, options: &[&str]) -> (String, image::RgbaImage) {
-    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
+    let sample = sample();
     let lod = dir.join(format!("{name}.lod"));
     let png = dir.join(format!("{name}.png"));
     let (sample, lod_s, png_s) = (
@@ -75,10 +80,13 @@ fn measure(picture: &image::RgbaImage) -> (usize, f64, f64, f64) {
 #[test]
 fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    // MARK rises along i over the sample's 36 x 24 x 6 cells (GRDECL order: i fastest).
+    // MARK rises along i over the sample's cells (GRDECL order: i fastest).
+    let d = strata::grid::open(&sample())
+        .expect("the sample reads")
+        .dims();
     let deck = dir.path().join("mark.grdecl");
-    let values: Vec<String> = (0..36 * 24 * 6)
-        .map(|c| format!("{:.4}", f64::from(c % 36) / 35.0))
+    let values: Vec<String> = (0..d.nx * d.ny * d.nz)
+        .map(|c| format!("{:.4}", (c % d.nx) as f64 / (d.nx - 1) as f64))
         .collect();
     std::fs::write(&deck, format!("MARK\n{}\n/\n", values.join("\n"))).expect("write the deck");
     let deck = deck.to_str().expect("a UTF-8 path");
@@ -134,12 +142,11 @@ fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
 #[test]
 fn a_missing_property_deck_is_named() {
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let sample = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
     let lod = dir.path().join("never.lod");
     let out = strata(&[
         "lod",
         "build",
-        sample.to_str().expect("a UTF-8 path"),
+        sample().to_str().expect("a UTF-8 path"),
         "--props",
         "no/such/deck.grdecl",
         "-o",
