@@ -1,6 +1,6 @@
 //! `strata lod build` and `strata lod view` run as a user runs them: a property deck
-//! given beside the model is stored in the hierarchy, and the view is coloured by it
-//! and framed on the model.
+//! given beside the model is stored in the hierarchy, and the view is coloured by it,
+//! over the colour range and with the framing that `strata render` gives the model.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -100,10 +100,17 @@ fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
         100.0 * width,
         100.0 * height
     );
-    assert!(
-        printed.contains("coloured by the stored scalar"),
-        "{printed}"
-    );
+    // The property's range over the cells, which `render` prints too: the vertices
+    // carry averages over cells, whose range is narrower.
+    let range = |printed: &str, after: &str| {
+        let at = printed.find(after)? + after.len();
+        let words = printed[at..].split([' ', ';', '\n', ',']);
+        words
+            .map(str::trim)
+            .find(|w| !w.is_empty())
+            .map(str::to_string)
+    };
+    let viewed_range = range(&printed, "cell range ");
     assert!(model > 400 * 300 / 5, "{model} model pixels");
     assert!(
         coloured > 0.3,
@@ -115,12 +122,22 @@ fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
     let png = dir.path().join("render.png");
     let rendered = strata(&[
         "render",
+        "--props",
+        deck,
+        "--property",
+        "MARK",
         "--size",
         "400x300",
         "-o",
         png.to_str().expect("a UTF-8 path"),
     ]);
     assert!(rendered.status.success(), "render: {}", stderr(&rendered));
+    let rendered_range = range(&stderr(&rendered), "MARK ");
+    assert!(
+        viewed_range.is_some() && viewed_range == rendered_range,
+        "lod view coloured over {viewed_range:?}, render over {rendered_range:?}: {printed}"
+    );
+    assert_eq!(viewed_range.as_deref(), Some("0.0000..1.0000"), "{printed}");
     let (_, _, render_width, render_height) =
         measure(&image::open(&png).expect("render wrote a PNG").to_rgba8());
     assert!(

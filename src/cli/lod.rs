@@ -169,11 +169,11 @@ fn view(args: &ViewArgs) -> Result<()> {
         (az, el),
         dist,
     );
-    // Colours span the roots' scalars, so that they do not change with the view.
+    // Colours span the property's cell range, as in `strata render`, whatever the view
+    // selects.
     let scalar_range = file
-        .has_scalars()
-        .then(|| colour_range(root_vertices().map(|v| v.scalar)))
-        .flatten();
+        .scalar_range()
+        .and_then(|(lo, hi)| colour_range([lo, hi]));
     let point = ViewPoint {
         eye: camera.eye.to_array(),
         z_scale: args.zscale,
@@ -229,7 +229,7 @@ fn view(args: &ViewArgs) -> Result<()> {
             output.display(),
             args.wire.name(),
             scalar_range.map_or("no scalar".to_string(), |(a, b)| format!(
-                "coloured by the stored scalar {a:.4}..{b:.4}"
+                "coloured by the property's cell range {a:.4}..{b:.4}"
             ))
         );
     }

@@ -4,8 +4,9 @@
 //! is used in place with no parsing or copying):
 //!
 //! ```text
-//! Header        80 bytes  magic "STRATLOD", version, flags, origin, grid dims,
-//!                         tile size, counts, offsets of the two tables
+//! Header        88 bytes  magic "STRATLOD", version, flags, origin, grid dims,
+//!                         tile size, counts, offsets of the two tables, the
+//!                         property's range over the active cells
 //! node data     per node: vertices (position, texture coordinates, scalar: 24 bytes
 //!               each), then indices (u16 when the node has under 65536 vertices,
 //!               else u32), padded to 8 bytes
@@ -30,7 +31,8 @@ use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surface};
 use crate::{BuildOptions, Error, LayerTree, Result, build_layer};
 
 const MAGIC: [u8; 8] = *b"STRATLOD";
-const VERSION: u32 = 1;
+/// 2: the header ends with the property's cell range.
+const VERSION: u32 = 2;
 /// Header flag: vertices carry a scalar (NaN otherwise).
 const HAS_SCALARS: u32 = 1;
 
@@ -48,6 +50,10 @@ struct Header {
     _pad: u32,
     layers_offset: u64,
     nodes_offset: u64,
+    /// Smallest and largest finite value of the property over the active cells (NaN
+    /// without a property): vertex scalars are averages over cells, so only this
+    /// gives the colour map the range `strata render` gives it.
+    scalar_range: [f32; 2],
 }
 
 /// One layer surface of the file.
@@ -238,7 +244,7 @@ impl Writer {
         origin: [f64; 3],
         dims: [u32; 2],
         tile_cells: u32,
-        scalars: bool,
+        scalar_range: Option<[f32; 2]>,
     ) -> Result<u64> {
         let layers_offset = self.pos;
         let layers = std::mem::take(&mut self.layers);
@@ -250,7 +256,11 @@ impl Writer {
         let header = Header {
             magic: MAGIC,
             version: VERSION,
-            flags: if scalars { HAS_SCALARS } else { 0 },
+            flags: if scalar_range.is_some() {
+                HAS_SCALARS
+            } else {
+                0
+            },
             origin,
             dims,
             tile_cells,
@@ -259,6 +269,7 @@ impl Writer {
             _pad: 0,
             layers_offset,
             nodes_offset,
+            scalar_range: scalar_range.unwrap_or([f32::NAN; 2]),
         };
         let path = self.path.clone();
         let io = |e| Error::io(&path, e);
@@ -335,10 +346,24 @@ pub fn build_file(
             ));
         }
     }
-    report.bytes = writer.finish(origin, dims, options.tile_cells, property.is_some())?;
+    let scalar_range = property.map(|name| cell_range(grid, name));
+    report.bytes = writer.finish(origin, dims, options.tile_cells, scalar_range)?;
     bar.finish_and_clear();
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// Smallest and largest finite value of property `name` over the active cells (NaN
+/// when there is none).
+fn cell_range(grid: &CornerPointGrid, name: &str) -> [f32; 2] {
+    let Some(values) = grid.property(name) else {
+        return [f32::NAN; 2];
+    };
+    values
+        .iter()
+        .zip(grid.actnum.iter())
+        .filter(|&(v, &active)| active && v.is_finite())
+        .fold([f32::NAN; 2], |[lo, hi], (&v, _)| [lo.min(v), hi.max(v)])
 }
 
 /// Where a frame is seen from, for choosing levels of detail.
@@ -466,6 +491,13 @@ impl LodFile {
 
     pub fn has_scalars(&self) -> bool {
         self.header.flags & HAS_SCALARS != 0
+    }
+
+    /// Smallest and largest value of the stored property over the model's active
+    /// cells; `None` without a property, or when the file holds no finite range.
+    pub fn scalar_range(&self) -> Option<(f32, f32)> {
+        let [lo, hi] = self.header.scalar_range;
+        (self.has_scalars() && lo.is_finite() && hi.is_finite() && lo <= hi).then_some((lo, hi))
     }
 
     pub fn layers(&self) -> &[LayerRecord] {

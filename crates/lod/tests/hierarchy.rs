@@ -183,6 +183,32 @@ fn file_round_trip_and_selection() {
     assert_eq!(file.nodes().len(), report.nodes);
     assert_eq!(file.dims(), [40, 30]);
     assert!(file.has_scalars());
+    // The colour range is the property's over the active cells, wider than the
+    // vertices' averages of it.
+    let poro = grid.property("PORO").unwrap();
+    let active = || {
+        poro.iter()
+            .zip(grid.actnum.iter())
+            .filter(|&(_, &a)| a)
+            .map(|(&v, _)| v)
+    };
+    let cells = (
+        active().fold(f32::INFINITY, f32::min),
+        active().fold(f32::NEG_INFINITY, f32::max),
+    );
+    assert_eq!(file.scalar_range(), Some(cells));
+    let vertex_range = (0..file.nodes().len())
+        .flat_map(|n| file.vertices(n).iter().map(|v| v.scalar))
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), s| {
+            (lo.min(s), hi.max(s))
+        });
+    assert!(
+        vertex_range.0 > cells.0 && vertex_range.1 < cells.1,
+        "vertices {vertex_range:?}, cells {cells:?}"
+    );
+    let plain = dir.path().join("plain.lod");
+    build_file(&grid, None, &plain, &options(8)).unwrap();
+    assert_eq!(LodFile::open(&plain).unwrap().scalar_range(), None);
 
     // Same meshes as building in memory.
     let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin()).unwrap();
