@@ -4,7 +4,6 @@
 use std::ops::Range;
 
 use anyhow::{Result, bail};
-use strata_grid::ndarray::s;
 use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surfaces, side_surfaces};
 
 /// Which surfaces of a model to draw.
@@ -57,18 +56,7 @@ pub fn build(
             layers.end
         );
     }
-    let range = property.and_then(|name| {
-        let values = grid.property(name)?;
-        // Over the active cells only: inactive ones often hold zeros.
-        colour_range(
-            values
-                .slice(s![layers.clone(), .., ..])
-                .iter()
-                .zip(grid.actnum.slice(s![layers.clone(), .., ..]).iter())
-                .filter(|&(_, &active)| active)
-                .map(|(&v, _)| v),
-        )
-    });
+    let range = property.and_then(|name| colour_range(grid.active_values(name, layers.clone())?));
     if options.flat_cells && property.is_some() {
         mesh = mesh.with_cell_values();
     }

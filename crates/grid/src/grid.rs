@@ -488,6 +488,25 @@ impl CornerPointGrid {
                 .find_map(|s| s.arrays.get(&key))
         })
     }
+
+    /// The values of property `name` over the active cells of `layers` (0-based, end
+    /// exclusive): what a colour map spans, since inactive cells often hold zeros.
+    pub fn active_values(
+        &self,
+        name: &str,
+        layers: std::ops::Range<usize>,
+    ) -> Option<impl Iterator<Item = f32> + '_> {
+        let values = self.property(name)?;
+        let layers = layers.start.min(self.dims.nz)..layers.end.min(self.dims.nz);
+        Some(
+            values
+                .slice(s![layers.clone(), .., ..])
+                .into_iter()
+                .zip(self.actnum.slice(s![layers, .., ..]))
+                .filter(|&(_, &active)| active)
+                .map(|(&v, _)| v),
+        )
+    }
 }
 
 /// Axis-aligned box; empty when `min > max`.
@@ -610,6 +629,24 @@ mod tests {
         let full = g.expand_active(&[7.0]).unwrap();
         assert!(full[[0, 0, 0]].is_nan() && full[[0, 0, 1]] == 7.0);
         assert!(g.expand_active(&[1.0, 2.0]).is_none());
+    }
+
+    #[test]
+    fn active_values_skip_inactive_cells_and_other_layers() {
+        let mut g = two_cells(0.0);
+        g.set_property(
+            "poro",
+            Array3::from_shape_vec((1, 1, 2), vec![0.0, 0.25]).unwrap(),
+        )
+        .unwrap();
+        g.actnum[[0, 0, 0]] = false;
+        let values = |layers| {
+            g.active_values("PORO", layers)
+                .map(Iterator::collect::<Vec<_>>)
+        };
+        assert_eq!(values(0..1), Some(vec![0.25]));
+        assert_eq!(values(1..4), Some(vec![]));
+        assert!(g.active_values("NTG", 0..1).is_none());
     }
 
     #[test]

@@ -356,14 +356,11 @@ pub fn build_file(
 /// Smallest and largest finite value of property `name` over the active cells (NaN
 /// when there is none).
 fn cell_range(grid: &CornerPointGrid, name: &str) -> [f32; 2] {
-    let Some(values) = grid.property(name) else {
-        return [f32::NAN; 2];
-    };
-    values
-        .iter()
-        .zip(grid.actnum.iter())
-        .filter(|&(v, &active)| active && v.is_finite())
-        .fold([f32::NAN; 2], |[lo, hi], (&v, _)| [lo.min(v), hi.max(v)])
+    grid.active_values(name, 0..grid.dims().nz)
+        .into_iter()
+        .flatten()
+        .filter(|v| v.is_finite())
+        .fold([f32::NAN; 2], |[lo, hi], v| [lo.min(v), hi.max(v)])
 }
 
 /// Where a frame is seen from, for choosing levels of detail.
