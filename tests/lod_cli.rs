@@ -1,11 +1,14 @@
 //! `strata lod build` and `strata lod view` run as a user runs them: a property deck
 //! given beside the model is stored in the hierarchy, and the view is coloured by it,
 //! over the colour range and with the framing that `strata render` gives the model.
+//! `strata render --lod` says when its budget cannot keep the outlines.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use strata::lod::measure::outline_bound;
 use strata::render::image;
+use strata::scene::{SceneOptions, build};
 
 fn strata(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_strata"))
@@ -176,4 +179,44 @@ fn a_missing_property_deck_is_named() {
         stderr(&out)
     );
     assert!(!lod.exists(), "no hierarchy is written");
+}
+
+#[test]
+fn render_lod_says_when_its_budget_cuts_the_outlines() {
+    let grid = strata::grid::open(&sample()).expect("the sample reads");
+    let (scene, _) = build(&grid, &SceneOptions::default()).expect("the sample's surfaces");
+    let bound = outline_bound(&scene);
+    let share = 100.0 * bound.min_triangles as f64 / scene.triangle_count() as f64;
+    // The sample's fault traces make the bound: between the two budgets below.
+    assert!(share > 1.0 && share < 50.0, "outline bound {share:.1} %");
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let png = dir.path().join("lod.png");
+    let render = |percent: &str| {
+        let out = strata(&[
+            "render",
+            sample().to_str().expect("a UTF-8 path"),
+            "--lod",
+            percent,
+            "--size",
+            "200x150",
+            "-o",
+            png.to_str().expect("a UTF-8 path"),
+        ]);
+        assert!(
+            out.status.success(),
+            "render --lod {percent}: {}",
+            stderr(&out)
+        );
+        stderr(&out)
+    };
+    let below = render("1");
+    assert!(
+        below.contains(&format!(
+            "the {} corners of the outlines, holes and fault traces takes at least {} triangles",
+            bound.corners, bound.min_triangles
+        )),
+        "{below}"
+    );
+    let above = render("50");
+    assert!(!above.contains("corners"), "{above}");
 }

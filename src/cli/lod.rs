@@ -7,6 +7,7 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand};
 use strata::grid::SurfaceMesh;
+use strata::lod::measure::outline_bound;
 use strata::lod::{BuildOptions, LodFile, Options, ViewPoint, build_file, decimate};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
@@ -257,6 +258,17 @@ pub fn decimate_scene(mesh: &SurfaceMesh, percent: f64, z_scale: f32) -> Result<
         out.error,
         start.elapsed().as_secs_f64()
     );
+    let outline = outline_bound(mesh);
+    if options.target_triangles < outline.min_triangles {
+        eprintln!(
+            "note: keeping the {} corners of the outlines, holes and fault traces takes at \
+             least {} triangles ({:.1} %): below that, decimation cuts corners and moves \
+             those lines by a cell",
+            outline.corners,
+            outline.min_triangles,
+            100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64
+        );
+    }
     if out.mesh.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }

@@ -124,7 +124,8 @@ pub struct RenderArgs {
     /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
     /// the decimated triangles. Colours are interpolated between nodes (decimated
-    /// triangles are no longer cells).
+    /// triangles are no longer cells). Says when PERCENT is below the triangles that
+    /// keep every corner of the outlines, holes and fault traces.
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent, conflicts_with = "iso")]
     lod: Option<f64>,
 }
