@@ -18,7 +18,9 @@
 //!   collapses (that would pinch a hole shut or stitch the two sides of a fault), the
 //!   link condition keeps the surface manifold, and every triangle a collapse changes
 //!   must keep the orientation of its normal and of its texture-space image, so
-//!   nothing folds over and the texture parameterisation stays one-to-one.
+//!   nothing folds over and the texture parameterisation stays one-to-one. With
+//!   [`Options::cover`] a boundary slides only where the surface gains area, over
+//!   cells it does not cover, for a renderer that masks fragments by cell.
 //! * Order and speed: collapses run in passes, as in meshoptimizer. A pass evaluates
 //!   every edge and collapses them, up to what the target still needs and under an
 //!   error bound of 1.5 times the cost of the last collapse the target would need
@@ -41,6 +43,7 @@ use std::time::Instant;
 
 use strata_grid::SurfaceMesh;
 
+use crate::cover::CellCover;
 use crate::quadric::{Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
@@ -91,6 +94,15 @@ pub struct Options {
     /// 1000 x 1000 layer), 0.978 with this fit (0.15 s); RMS line distance 1.18e-3,
     /// 1.12e-3 and 1.06e-3 of the extent.
     pub lift: bool,
+    /// Let outlines, holes and fault traces move only outward, over cells that the
+    /// piece of surface they bound does not cover ([`CellCover`]): a boundary vertex
+    /// goes onto its neighbour on the boundary only where the boundary turns away from
+    /// the surface there (or runs straight), and the triangle the surface gains covers
+    /// no cell of its own piece. Drawn with the renderer's cell mask, which discards
+    /// the fragments of cells the piece does not cover, the outlines stay exactly where
+    /// the original draws them, whatever the budget; without the mask the surface is
+    /// drawn over the cells it gained. Needs a mesh made of cell faces.
+    pub cover: bool,
 }
 
 /// Where a collapse puts its new vertex. Either way, its texture coordinates and
@@ -123,6 +135,7 @@ impl Default for Options {
             boundary_weight: 4.0,
             placement: Placement::default(),
             lift: true,
+            cover: false,
         }
     }
 }
@@ -182,6 +195,34 @@ pub struct Decimated {
     pub collapses: usize,
     /// Where the time went, for profiling.
     pub timings: Timings,
+}
+
+impl Decimated {
+    /// Per vertex, its piece of `cover`, the [`CellCover`] of `input`, the surface
+    /// this was simplified from: its own piece, or for a new vertex that of the input
+    /// triangle it lies on (`u32::MAX` where neither is known, which the renderer
+    /// refuses).
+    pub fn pieces(&self, input: &SurfaceMesh, cover: &CellCover) -> Vec<u32> {
+        self.source
+            .iter()
+            .zip(&self.home)
+            .map(|(&source, &home)| {
+                let v = if source == NEW {
+                    input
+                        .triangles
+                        .get(home as usize)
+                        .map_or(u32::MAX, |t| t[0])
+                } else {
+                    source
+                };
+                cover
+                    .vertex_piece
+                    .get(v as usize)
+                    .copied()
+                    .unwrap_or(u32::MAX)
+            })
+            .collect()
+    }
 }
 
 /// Seconds spent in each stage of a decimation, and the number of passes.
@@ -508,6 +549,8 @@ struct Collapser<'a> {
     options: &'a Options,
     frame: Frame,
     has_scalars: bool,
+    /// The input's cells, with [`Options::cover`].
+    cover: Option<CellCover>,
     // Per vertex.
     /// The joint point, derivable from `position`, `texcoord` and `scalar` (it is
     /// exactly `Frame::point` of them) but kept: fetching it from one array was
@@ -626,6 +669,11 @@ impl<'a> Collapser<'a> {
             }
         };
         let frame = Frame::new(mesh, options);
+        let cover = if options.cover {
+            Some(CellCover::of(mesh)?)
+        } else {
+            None
+        };
 
         let x: Vec<Point> = (0..n).map(|v| Frame::of_mesh(mesh, v, &frame)).collect();
         let mut flags = vec![0u8; n];
@@ -729,6 +777,7 @@ impl<'a> Collapser<'a> {
             options,
             frame,
             has_scalars: !mesh.scalars.is_empty(),
+            cover,
             x,
             q,
             position: mesh.positions.clone(),
@@ -849,6 +898,8 @@ impl<'a> Collapser<'a> {
             keep_a &= !bb;
         } else {
             free = false;
+            keep_a &= self.grows_outward(b, a);
+            keep_b &= self.grows_outward(a, b);
         }
         let q = self.q[a as usize].sum(&self.q[b as usize]);
         let (xa, xb) = (&self.x[a as usize], &self.x[b as usize]);
@@ -1117,6 +1168,73 @@ impl<'a> Collapser<'a> {
                     || self.tris[t as usize].contains(&gone)
                     || self.keeps_orientation(t, keep, p)
             })
+    }
+
+    /// With [`Options::cover`], may `gone` go onto `keep`? Always, but for a boundary
+    /// vertex going onto its neighbour along the boundary: the boundary then runs
+    /// from `gone`'s other neighbour `c` straight to `keep`, and the surface loses the
+    /// triangle `c gone keep` where the boundary turns towards it at `gone`, or gains
+    /// it where it turns away. Only a gain over cells its piece does not cover is let
+    /// through (or no turn).
+    fn grows_outward(&self, gone: u32, keep: u32) -> bool {
+        let Some(cover) = &self.cover else {
+            return true;
+        };
+        if !self.flag(gone, BOUNDARY) {
+            return true;
+        }
+        // `gone`'s neighbours along the boundary are those of one live triangle only.
+        let mut neighbours = [NONE; 2];
+        let mut found = 0;
+        let mut edge_triangle = NONE;
+        for &t in self.star(gone) {
+            if !self.uses(t, gone) {
+                continue;
+            }
+            for w in self.tris[t as usize] {
+                if w == gone {
+                    continue;
+                }
+                let sharing = self
+                    .star(gone)
+                    .iter()
+                    .filter(|&&s| self.uses(s, gone) && self.tris[s as usize].contains(&w))
+                    .count();
+                if sharing == 1 {
+                    if w == keep {
+                        edge_triangle = t;
+                    } else if found < 2 {
+                        neighbours[found] = w;
+                        found += 1;
+                    }
+                }
+            }
+        }
+        if edge_triangle == NONE {
+            // An interior edge: the boundary does not change.
+            return true;
+        }
+        if found != 1 {
+            return false;
+        }
+        let c = neighbours[0];
+        let tri = self.tris[edge_triangle as usize];
+        let at = |v: u32| tri.iter().position(|&w| w == v).unwrap_or(0);
+        // The surface lies left of the boundary walked c -> gone -> keep when the
+        // triangle runs gone -> keep in a positive texture orientation.
+        let forward = (at(gone) + 1) % 3 == at(keep);
+        let sign =
+            f64::from(self.uv_sign[edge_triangle as usize]) * if forward { 1.0 } else { -1.0 };
+        let uv = [c, gone, keep].map(|v| self.texcoord[v as usize].map(f64::from));
+        let turn = cross2(uv[0], uv[1], uv[2]) * sign;
+        if sign == 0.0 || turn > 0.0 {
+            return false;
+        }
+        turn == 0.0
+            || !cover.triangle_overlaps(
+                cover.vertex_piece[self.original[gone as usize] as usize],
+                uv,
+            )
     }
 
     /// Does triangle `t` keep the direction of its normal and the sign of its texture
@@ -1533,7 +1651,12 @@ impl<'a> Collapser<'a> {
             return;
         };
         let exact = q.error(&p.x);
-        if exact <= bound && self.can_collapse(keep, gone, &p, false) {
+        // Earlier collapses of the pass may have moved `gone`'s neighbours on the
+        // boundary since the edge was evaluated.
+        if exact <= bound
+            && self.grows_outward(gone, keep)
+            && self.can_collapse(keep, gone, &p, false)
+        {
             self.collapse(keep, gone, &p, false);
             self.max_cost = self.max_cost.max(exact);
         }

@@ -5,6 +5,8 @@
 //!   at most the error) with the original surface's texture coordinates and scalar
 //!   there, so the original grid wireframe (global coordinates) is still drawn where
 //!   it was on the simplified surface (Celes & Abraham 2011, section 5, Fig. 12).
+//! * [`CellCover`]: the cells each piece of a surface covers, for decimation that lets
+//!   outlines grow only outward and a renderer that masks fragments by their cell.
 //! * [`baseline`]: meshoptimizer's simplifiers on the same meshes, to compare with,
 //!   and its vertex-cache and vertex-fetch ordering for GPU buffers.
 //! * [`build_layer`], [`build_file`], [`LodFile`]: a quadtree of tiles per layer with
@@ -14,6 +16,7 @@
 //!   where the original draws it.
 
 pub mod baseline;
+mod cover;
 mod decimate;
 mod error;
 mod file;
@@ -22,6 +25,7 @@ pub mod measure;
 mod quadric;
 mod reference;
 
+pub use cover::{CellCover, CoverPiece, cell_of};
 pub use decimate::{Decimated, NEW, Options, Placement, Timings, decimate, decimate_on};
 pub use error::{Error, Result};
 pub use file::{

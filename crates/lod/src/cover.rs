@@ -1,0 +1,269 @@
+//! Which grid cells each connected piece of a surface covers, so that a renderer can
+//! draw a simplified surface only over the cells of the original.
+//!
+//! With global coordinates (node `(i, j)` at `(2i + 1, 2j + 1)`), the texture
+//! coordinates of a fragment name its cell. A decimation that only lets outlines and
+//! holes grow outward over cells their piece does not cover ([`crate::Options::cover`])
+//! keeps every covered cell under the simplified surface, and the renderer discards
+//! the fragments whose cell its piece does not cover: the outlines, holes and fault
+//! traces are drawn exactly where the original draws them, at any budget, while the
+//! triangles spent on their staircases go to the surface inside.
+
+use strata_grid::SurfaceMesh;
+
+use crate::{Error, Result};
+
+/// The cells that one connected piece of a surface covers: a bit per cell of its
+/// bounding box of cells, row by row.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CoverPiece {
+    /// Cell of the box's first corner.
+    pub origin: [i32; 2],
+    /// Cells across and down the box.
+    pub size: [u32; 2],
+    /// Bit `y * size[0] + x` of these words: is cell `origin + (x, y)` covered?
+    pub bits: Vec<u32>,
+}
+
+impl CoverPiece {
+    /// Does this piece cover `cell`?
+    pub fn covers(&self, cell: [i32; 2]) -> bool {
+        let x = i64::from(cell[0]) - i64::from(self.origin[0]);
+        let y = i64::from(cell[1]) - i64::from(self.origin[1]);
+        if x < 0 || y < 0 || x >= i64::from(self.size[0]) || y >= i64::from(self.size[1]) {
+            return false;
+        }
+        let bit = (y * i64::from(self.size[0]) + x) as usize;
+        self.bits[bit / 32] >> (bit % 32) & 1 != 0
+    }
+}
+
+/// The connected pieces of a surface (triangles joined by shared vertices) and the
+/// cells each covers.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CellCover {
+    /// Per vertex of the surface it was made from: its piece (`u32::MAX` for a
+    /// vertex no triangle uses).
+    pub vertex_piece: Vec<u32>,
+    pub pieces: Vec<CoverPiece>,
+}
+
+/// The cell whose square holds texture coordinate `uv` (global coordinates).
+pub fn cell_of(uv: [f64; 2]) -> [i32; 2] {
+    uv.map(|c| ((c - 1.0) * 0.5).floor() as i32)
+}
+
+impl CellCover {
+    /// The cover of `mesh`, whose every triangle lies in one cell's square of texture
+    /// space (a surface made of cell faces, as [`strata_grid::layer_surface`] makes):
+    /// an error names the first triangle that does not.
+    pub fn of(mesh: &SurfaceMesh) -> Result<CellCover> {
+        let n = mesh.vertex_count();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn root(parent: &mut [u32], mut v: u32) -> u32 {
+            while parent[v as usize] != v {
+                let up = parent[parent[v as usize] as usize];
+                parent[v as usize] = up;
+                v = up;
+            }
+            v
+        }
+        let mut cells = Vec::with_capacity(mesh.triangle_count());
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let uv = tri.map(|v| mesh.texcoords[v as usize].map(f64::from));
+            let centre = [0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0);
+            let cell = cell_of(centre);
+            let lo = cell.map(|c| 2.0 * f64::from(c) + 1.0);
+            if uv
+                .iter()
+                .any(|p| (0..2).any(|k| p[k] < lo[k] || p[k] > lo[k] + 2.0))
+            {
+                return Err(Error::Mesh(format!(
+                    "triangle {t} spans more than one cell of the global texture coordinates \
+                     (corners {uv:?}): a cell cover needs a surface made of cell faces"
+                )));
+            }
+            cells.push(cell);
+            let r = root(&mut parent, tri[0]);
+            for &v in &tri[1..] {
+                let s = root(&mut parent, v);
+                if s != r {
+                    parent[s as usize] = r;
+                }
+            }
+        }
+        let mut piece_of_root = vec![u32::MAX; n];
+        let mut vertex_piece = vec![u32::MAX; n];
+        let mut boxes: Vec<([i32; 2], [i32; 2])> = Vec::new();
+        for (tri, cell) in mesh.triangles.iter().zip(&cells) {
+            let r = root(&mut parent, tri[0]) as usize;
+            if piece_of_root[r] == u32::MAX {
+                piece_of_root[r] = boxes.len() as u32;
+                boxes.push((*cell, *cell));
+            }
+            let p = piece_of_root[r];
+            let (lo, hi) = &mut boxes[p as usize];
+            *lo = [lo[0].min(cell[0]), lo[1].min(cell[1])];
+            *hi = [hi[0].max(cell[0]), hi[1].max(cell[1])];
+            for &v in tri {
+                vertex_piece[v as usize] = p;
+            }
+        }
+        let mut pieces: Vec<CoverPiece> = boxes
+            .iter()
+            .map(|(lo, hi)| {
+                let size = [0, 1].map(|k| (hi[k] - lo[k] + 1) as u32);
+                CoverPiece {
+                    origin: *lo,
+                    size,
+                    bits: vec![0; (size[0] as usize * size[1] as usize).div_ceil(32)],
+                }
+            })
+            .collect();
+        for (tri, cell) in mesh.triangles.iter().zip(&cells) {
+            let piece = &mut pieces[vertex_piece[tri[0] as usize] as usize];
+            let x = (cell[0] - piece.origin[0]) as usize;
+            let y = (cell[1] - piece.origin[1]) as usize;
+            let bit = y * piece.size[0] as usize + x;
+            piece.bits[bit / 32] |= 1 << (bit % 32);
+        }
+        Ok(CellCover {
+            vertex_piece,
+            pieces,
+        })
+    }
+
+    /// Appends the pieces of `other`, the cover of a surface appended to this one's
+    /// ([`SurfaceMesh::append`]), as pieces of their own.
+    pub fn append(&mut self, other: &CellCover) {
+        let first = self.pieces.len() as u32;
+        self.vertex_piece
+            .extend(other.vertex_piece.iter().map(|&p| p + first));
+        self.pieces.extend_from_slice(&other.pieces);
+    }
+
+    /// Does the open triangle `uv` (texture coordinates) overlap a cell that `piece`
+    /// covers? Touching one along an edge or at a corner is no overlap.
+    pub fn triangle_overlaps(&self, piece: u32, uv: [[f64; 2]; 3]) -> bool {
+        let Some(p) = self.pieces.get(piece as usize) else {
+            return false;
+        };
+        let side = crate::reference::cross2(uv[0], uv[1], uv[2]);
+        if side == 0.0 {
+            return false;
+        }
+        let lo = [0, 1].map(|k| uv.iter().map(|c| c[k]).fold(f64::INFINITY, f64::min));
+        let hi = [0, 1].map(|k| uv.iter().map(|c| c[k]).fold(f64::NEG_INFINITY, f64::max));
+        // Cells whose open square meets the open box of the triangle.
+        let first = [0, 1]
+            .map(|k| (((lo[k] - 1.0) * 0.5).floor() as i64).max(i64::from(p.origin[k])) as i32);
+        let last = [0, 1].map(|k| {
+            ((((hi[k] - 1.0) * 0.5).ceil() as i64) - 1)
+                .min(i64::from(p.origin[k]) + i64::from(p.size[k]) - 1) as i32
+        });
+        for y in first[1]..=last[1] {
+            for x in first[0]..=last[0] {
+                if !p.covers([x, y]) {
+                    continue;
+                }
+                let x0 = 2.0 * f64::from(x) + 1.0;
+                let y0 = 2.0 * f64::from(y) + 1.0;
+                let corners = [
+                    [x0, y0],
+                    [x0 + 2.0, y0],
+                    [x0 + 2.0, y0 + 2.0],
+                    [x0, y0 + 2.0],
+                ];
+                // Separated when all four corners lie on or outside one edge's line.
+                let separated = (0..3).any(|e| {
+                    let (a, b) = (uv[e], uv[(e + 1) % 3]);
+                    corners
+                        .iter()
+                        .all(|&c| crate::reference::cross2(a, b, c) * side <= 0.0)
+                });
+                if !separated {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two pieces: cells (0..3, 0..2) less cell (1, 1), and cell (5, 0) apart.
+    fn two_pieces() -> SurfaceMesh {
+        let mut mesh = SurfaceMesh::with_origin([0.0; 3]);
+        for (i, j) in [(0, 0), (1, 0), (2, 0), (0, 1), (2, 1), (5, 0)] {
+            let base = mesh.positions.len() as u32;
+            for (di, dj) in [(0, 0), (1, 0), (1, 1), (0, 1)] {
+                let (u, v) = (i + di, j + dj);
+                mesh.positions.push([u as f32, v as f32, 0.0]);
+                mesh.texcoords
+                    .push([2.0 * u as f32 + 1.0, 2.0 * v as f32 + 1.0]);
+            }
+            mesh.triangles.push([base, base + 1, base + 2]);
+            mesh.triangles.push([base, base + 2, base + 3]);
+        }
+        // Join the first five cells' copies of shared nodes into one piece by welding.
+        let mut weld = std::collections::HashMap::new();
+        let mut map = Vec::new();
+        for (v, uv) in mesh.texcoords.iter().enumerate() {
+            let key = (uv[0] as i32, uv[1] as i32);
+            map.push(*weld.entry(key).or_insert(v as u32));
+        }
+        for t in &mut mesh.triangles {
+            *t = t.map(|v| map[v as usize]);
+        }
+        mesh
+    }
+
+    #[test]
+    fn pieces_cover_the_cells_of_their_triangles() {
+        let mesh = two_pieces();
+        let cover = CellCover::of(&mesh).expect("cell faces");
+        assert_eq!(cover.pieces.len(), 2);
+        let first = &cover.pieces[0];
+        assert_eq!((first.origin, first.size), ([0, 0], [3, 2]));
+        for cell in [[0, 0], [1, 0], [2, 0], [0, 1], [2, 1]] {
+            assert!(first.covers(cell), "{cell:?}");
+        }
+        for cell in [[1, 1], [3, 0], [-1, 0], [5, 0]] {
+            assert!(!first.covers(cell), "{cell:?}");
+        }
+        assert!(cover.pieces[1].covers([5, 0]));
+        let a = cover.vertex_piece[mesh.triangles[0][0] as usize];
+        let b = cover.vertex_piece[mesh.triangles[10][0] as usize];
+        assert_ne!(a, b);
+    }
+
+    #[test]
+    fn a_triangle_overlaps_covered_cells_not_those_it_touches() {
+        let cover = CellCover::of(&two_pieces()).expect("cell faces");
+        // Half of the uncovered cell (1, 1), corners on grid nodes: touches only.
+        let notch = [[3.0, 3.0], [5.0, 3.0], [5.0, 5.0]];
+        assert!(!cover.triangle_overlaps(0, notch));
+        // The whole of cell (1, 1) and a sliver of (2, 1).
+        assert!(cover.triangle_overlaps(0, [[3.0, 3.0], [5.2, 3.0], [5.0, 5.0]]));
+        // Over covered cells, either orientation.
+        assert!(cover.triangle_overlaps(0, [[1.0, 1.0], [1.0, 3.0], [3.0, 1.0]]));
+        assert!(cover.triangle_overlaps(0, [[1.0, 1.0], [3.0, 1.0], [1.0, 3.0]]));
+        // Beyond the box, and a flat triangle.
+        assert!(!cover.triangle_overlaps(0, [[7.0, 1.0], [9.0, 1.0], [9.0, 3.0]]));
+        assert!(!cover.triangle_overlaps(0, [[1.0, 1.0], [3.0, 1.0], [5.0, 1.0]]));
+        // Piece 1 covers only cell (5, 0).
+        assert!(cover.triangle_overlaps(1, [[11.0, 1.0], [13.0, 1.0], [13.0, 3.0]]));
+        assert!(!cover.triangle_overlaps(1, notch));
+    }
+
+    #[test]
+    fn a_triangle_across_cells_is_refused() {
+        let mut mesh = two_pieces();
+        mesh.texcoords[mesh.triangles[0][1] as usize] = [5.0, 1.0];
+        let err = CellCover::of(&mesh).expect_err("spans two cells");
+        assert!(err.to_string().contains("triangle 0"), "{err}");
+    }
+}
