@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
+use strata_lod::CellCover;
 
 use crate::isoline::{IsolineOptions, IsolineTechnique, RangeAdjust};
 use crate::timing::{FrameTime, FrameTimer};
@@ -122,6 +123,7 @@ pub struct Renderer {
     bind_group: wgpu::BindGroup,
     techniques: HashMap<WireMode, Box<dyn Technique>>,
     isolines: Option<IsolineTechnique>,
+    covered: Option<wire::CoveredTechnique>,
     targets: Option<Targets>,
 }
 
@@ -204,6 +206,7 @@ impl Renderer {
             bind_group,
             techniques: HashMap::new(),
             isolines: None,
+            covered: None,
             targets: None,
         })
     }
@@ -222,6 +225,36 @@ impl Renderer {
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let prepared = technique.prepare(&self.gpu, mesh);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        prepared
+    }
+
+    /// Uploads a decimated `mesh` for drawing with the global wireframe over the cells
+    /// of the original only: vertex `v` lies on piece `pieces[v]` of `cover`, the
+    /// original's [`CellCover`], and fragments whose cell that piece does not cover are
+    /// discarded. Made for surfaces decimated with `strata_lod::Options::cover`, whose
+    /// outlines only grew outward.
+    pub fn prepare_covered(
+        &mut self,
+        mesh: &SurfaceMesh,
+        pieces: &[u32],
+        cover: &CellCover,
+    ) -> Result<Box<dyn Drawable>> {
+        let scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let technique = match self.covered.take() {
+            Some(t) => t,
+            None => wire::CoveredTechnique::new(&PipelineContext {
+                gpu: &self.gpu,
+                frame_layout: &self.frame_layout,
+            }),
+        };
+        let prepared = technique.prepare(&self.gpu, mesh, pieces, cover);
+        self.covered = Some(technique);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(e.to_string()));
         }

@@ -11,6 +11,7 @@ pub mod reference;
 mod texture;
 mod wire_texture;
 
+pub(crate) use texture::CoveredTechnique;
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;

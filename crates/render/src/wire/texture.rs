@@ -6,6 +6,7 @@
 
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
+use strata_lod::CellCover;
 use wgpu::util::DeviceExt;
 
 use super::labels::{Labelling, label_vertices};
@@ -352,6 +353,216 @@ impl Drawable for PulledDraw {
 
     fn triangles(&self) -> usize {
         self.vertex_count as usize / 3
+    }
+
+    fn bytes(&self) -> u64 {
+        self.bytes
+    }
+}
+
+/// The global wireframe over a decimated surface, masked by the cells of the original
+/// (`fs_uv_cover`): each vertex carries its piece of [`CellCover`], and a texture
+/// holds the pieces' cells.
+pub struct CoveredTechnique {
+    pipelines: [wgpu::RenderPipeline; 4],
+    layout: wgpu::BindGroupLayout,
+}
+
+const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
+
+/// Words per piece at the front of the cover texture (see texture.wgsl).
+const COVER_HEADER: usize = 5;
+
+impl CoveredTechnique {
+    pub fn new(ctx: &PipelineContext) -> Self {
+        let device = &ctx.gpu.device;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("cell cover"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 4,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Uint,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let module = texture_shader(device);
+        let buffers = [
+            Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<UvVertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &UV_ATTRIBUTES,
+            }),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: 4,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &PIECE_ATTRIBUTES,
+            }),
+        ];
+        let pipelines = texture_pipelines(
+            ctx,
+            "global covered",
+            &module,
+            ("vs_uv_cover", "fs_uv_cover"),
+            &buffers,
+            &[&layout],
+        );
+        CoveredTechnique { pipelines, layout }
+    }
+
+    /// Uploads `mesh`, whose vertex `v` lies on piece `pieces[v]` of `cover`.
+    pub fn prepare(
+        &self,
+        gpu: &Gpu,
+        mesh: &SurfaceMesh,
+        pieces: &[u32],
+        cover: &CellCover,
+    ) -> Result<Box<dyn Drawable>> {
+        if pieces.len() != mesh.vertex_count() {
+            return Err(Error::Invalid(format!(
+                "{} pieces for {} vertices",
+                pieces.len(),
+                mesh.vertex_count()
+            )));
+        }
+        if let Some(p) = mesh
+            .triangles
+            .iter()
+            .flatten()
+            .map(|&v| pieces[v as usize])
+            .find(|&p| p as usize >= cover.pieces.len())
+        {
+            return Err(Error::Invalid(format!(
+                "piece {p} is not in the cover ({} pieces)",
+                cover.pieces.len()
+            )));
+        }
+        let words = cover_words(cover)?;
+        let limit = gpu.limits.max_texture_dimension_2d as usize;
+        let width = limit.min(4096);
+        let rows = words.len().div_ceil(width).max(1);
+        if rows > limit {
+            return Err(Error::Invalid(format!(
+                "a cell cover of {} words exceeds this adapter's {limit} x {limit} texture",
+                words.len()
+            )));
+        }
+        let mut texels = words;
+        texels.resize(width * rows, 0);
+        let device = &gpu.device;
+        let size = wgpu::Extent3d {
+            width: width as u32,
+            height: rows as u32,
+            depth_or_array_layers: 1,
+        };
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("cell cover"),
+            size,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Uint,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        gpu.queue.write_texture(
+            texture.as_image_copy(),
+            bytemuck::cast_slice(&texels),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * width as u32),
+                rows_per_image: Some(rows as u32),
+            },
+            size,
+        );
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("cell cover"),
+            layout: &self.layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::TextureView(&view),
+            }],
+        });
+        let vertices: Vec<UvVertex> = (0..mesh.vertex_count())
+            .map(|i| UvVertex {
+                position: mesh.positions[i],
+                uv: mesh.texcoords[i],
+                scalar: scalar_at(mesh, i),
+            })
+            .collect();
+        let draw = IndexedDraw::new(
+            gpu,
+            self.pipelines.clone(),
+            bytemuck::cast_slice(&vertices),
+            &mesh.triangles,
+            "global covered",
+        )?;
+        let piece_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("cover pieces"),
+            contents: bytemuck::cast_slice(pieces),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        let bytes = draw.bytes + piece_buffer.size() + 4 * texels.len() as u64;
+        Ok(Box::new(CoveredDraw {
+            draw,
+            pieces: piece_buffer,
+            bind_group,
+            bytes,
+        }))
+    }
+}
+
+/// The words of `cover` as `covers` in texture.wgsl reads them.
+fn cover_words(cover: &CellCover) -> Result<Vec<u32>> {
+    let mut words = Vec::with_capacity(
+        COVER_HEADER * cover.pieces.len()
+            + cover.pieces.iter().map(|p| p.bits.len()).sum::<usize>(),
+    );
+    let mut offset = COVER_HEADER * cover.pieces.len();
+    for p in &cover.pieces {
+        let first = u32::try_from(offset)
+            .map_err(|_| Error::Invalid("a cell cover of over 2^32 words".into()))?;
+        words.extend([
+            p.origin[0] as u32,
+            p.origin[1] as u32,
+            p.size[0],
+            p.size[1],
+            first,
+        ]);
+        offset += p.bits.len();
+    }
+    for p in &cover.pieces {
+        words.extend_from_slice(&p.bits);
+    }
+    Ok(words)
+}
+
+struct CoveredDraw {
+    draw: IndexedDraw,
+    pieces: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+    bytes: u64,
+}
+
+impl Drawable for CoveredDraw {
+    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
+        let d = &self.draw;
+        let mut pass = frame.begin_pass(encoder, "global covered");
+        pass.set_pipeline(&d.pipelines[texture_variant(frame)]);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_bind_group(1, &self.bind_group, &[]);
+        pass.set_vertex_buffer(0, d.vertices.slice(..));
+        pass.set_vertex_buffer(1, self.pieces.slice(..));
+        pass.set_index_buffer(d.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..d.index_count, 0, 0..1);
+    }
+
+    fn triangles(&self) -> usize {
+        self.draw.triangles()
     }
 
     fn bytes(&self) -> u64 {

@@ -43,6 +43,10 @@ fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
+    return uv_colour(in);
+}
+
+fn uv_colour(in: UvOut) -> vec4<f32> {
     let dpx = dpdx(in.wp);
     let dpy = dpdy(in.wp);
     let du = dpdx(in.uv);
@@ -52,6 +56,55 @@ fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
     let base = base_color(in.scalar);
     let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, a);
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
+}
+
+// Cell mask of decimated surfaces (strata-lod's CellCover): five words per piece
+// (first cell x and y as i32, cells across and down, index of its first bit word),
+// then the bits, a row of cells after another, in a texture read as a flat array.
+@group(1) @binding(4) var cover_words: texture_2d<u32>;
+
+struct CoverOut {
+    @builtin(position) position: vec4<f32>,
+    @location(0) wp: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) scalar: f32,
+    @location(3) @interpolate(flat) piece: u32,
+}
+
+fn cover_word(i: u32) -> u32 {
+    let w = textureDimensions(cover_words).x;
+    return textureLoad(cover_words, vec2<u32>(i % w, i / w), 0).x;
+}
+
+// Does `piece` cover the cell of global coordinates `uv` (node (i, j) at (2i + 1, 2j + 1))?
+fn covers(piece: u32, uv: vec2<f32>) -> bool {
+    let h = 5u * piece;
+    let cell = vec2<i32>(floor((uv - vec2<f32>(1.0)) * 0.5));
+    let rel = cell - vec2<i32>(bitcast<i32>(cover_word(h)), bitcast<i32>(cover_word(h + 1u)));
+    let size = vec2<i32>(i32(cover_word(h + 2u)), i32(cover_word(h + 3u)));
+    if any(rel < vec2<i32>(0)) || any(rel >= size) {
+        return false;
+    }
+    let bit = u32(rel.y) * u32(size.x) + u32(rel.x);
+    return ((cover_word(cover_word(h + 4u) + bit / 32u) >> (bit % 32u)) & 1u) != 0u;
+}
+
+@vertex
+fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32, @location(3) piece: u32) -> CoverOut {
+    let wp = world(p);
+    return CoverOut(clip(wp), wp, uv, scalar, piece);
+}
+
+// The global wireframe drawn only over the cells of the original surface: a decimated
+// surface whose outlines grew outward (strata-lod's `Options::cover`) loses what it
+// gained, and its outlines, holes and fault traces are the original's.
+@fragment
+fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
+    let colour = uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar));
+    if !covers(in.piece, in.uv) {
+        discard;
+    }
+    return colour;
 }
 
 @vertex
