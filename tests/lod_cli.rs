@@ -1,7 +1,8 @@
 //! `strata lod build` and `strata lod view` run as a user runs them: a property deck
 //! given beside the model is stored in the hierarchy, and the view is coloured by it,
 //! over the colour range and with the framing that `strata render` gives the model.
-//! `strata render --lod` says when its budget cannot keep the outlines.
+//! `strata render --lod` says when its budget cannot keep the outlines, and offers
+//! `--cover`, which keeps them.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -219,4 +220,57 @@ fn render_lod_says_when_its_budget_cuts_the_outlines() {
     );
     let above = render("50");
     assert!(!above.contains("corners"), "{above}");
+}
+
+#[test]
+fn render_lod_cover_is_offered_below_the_outline_bound_and_draws_the_model() {
+    // The mask itself is measured in strata-render's tests/covered.rs; here the
+    // command line: the note offers --cover, which draws the model without the note.
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let model_path = sample();
+    let render = |name: &str, options: &[&str]| {
+        let png = dir.path().join(format!("{name}.png"));
+        let mut args = vec![
+            "render",
+            model_path.to_str().expect("a UTF-8 path"),
+            "--size",
+            "400x300",
+            "-o",
+            png.to_str().expect("a UTF-8 path"),
+        ];
+        args.extend_from_slice(options);
+        let out = strata(&args);
+        assert!(out.status.success(), "render {options:?}: {}", stderr(&out));
+        let picture = image::open(&png).expect("a PNG").to_rgba8();
+        let model = picture
+            .pixels()
+            .filter(|p| p.0[..3].iter().any(|&c| c <= 245))
+            .count();
+        (stderr(&out), model)
+    };
+    let (_, full) = render("full", &[]);
+    let (plain_note, _) = render("plain", &["--lod", "1"]);
+    let (cover_note, covered) = render("cover", &["--lod", "1", "--cover"]);
+    eprintln!("model pixels: {full} in full, {covered} at 1 % with --cover");
+    assert!(plain_note.contains("--cover keeps them"), "{plain_note}");
+    assert!(!cover_note.contains("corners"), "{cover_note}");
+    assert!(
+        covered.abs_diff(full) * 4 < full,
+        "{covered} model pixels against {full}"
+    );
+    let out = strata(&[
+        "render",
+        model_path.to_str().expect("a UTF-8 path"),
+        "--lod",
+        "10",
+        "--cover",
+        "--wire",
+        "tex",
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("--cover draws with --wire global"),
+        "{}",
+        stderr(&out)
+    );
 }

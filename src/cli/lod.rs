@@ -8,7 +8,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand};
 use strata::grid::SurfaceMesh;
 use strata::lod::measure::outline_bound;
-use strata::lod::{BuildOptions, LodFile, Options, ViewPoint, build_file, decimate};
+use strata::lod::{BuildOptions, CellCover, LodFile, Options, ViewPoint, build_file, decimate};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
 use strata::scene::colour_range;
@@ -237,12 +237,31 @@ fn view(args: &ViewArgs) -> Result<()> {
     Ok(())
 }
 
+/// Per vertex of a decimated scene its piece of the input's cells, and those cells:
+/// what the renderer's cell mask needs.
+pub type Masked = (Vec<u32>, CellCover);
+
 /// `strata render --lod PERCENT`: `mesh` decimated to `percent` % of its triangles,
-/// its vertical error weighed with the view's exaggeration `z_scale`.
-pub fn decimate_scene(mesh: &SurfaceMesh, percent: f64, z_scale: f32) -> Result<SurfaceMesh> {
+/// its vertical error weighed with the view's exaggeration `z_scale`. With `cover`,
+/// its outlines only grow outward, and each vertex's piece of the input's
+/// [`CellCover`] comes with it, for the renderer's cell mask.
+pub fn decimate_scene(
+    mesh: &SurfaceMesh,
+    percent: f64,
+    z_scale: f32,
+    cover: bool,
+) -> Result<(SurfaceMesh, Option<Masked>)> {
     let start = Instant::now();
     let options = Options {
         z_scale,
+        cover,
+        // The mask draws the outlines wherever the decimated ones lie: no planes hold
+        // them in place (measured on emerald at 10 %, `strata bench lod`).
+        boundary_weight: if cover {
+            0.0
+        } else {
+            Options::default().boundary_weight
+        },
         ..Options::fraction(mesh, percent / 100.0)
     };
     let out = decimate(mesh, &options).context("decimating the scene")?;
@@ -259,11 +278,11 @@ pub fn decimate_scene(mesh: &SurfaceMesh, percent: f64, z_scale: f32) -> Result<
         start.elapsed().as_secs_f64()
     );
     let outline = outline_bound(mesh);
-    if options.target_triangles < outline.min_triangles {
+    if !cover && options.target_triangles < outline.min_triangles {
         eprintln!(
             "note: keeping the {} corners of the outlines, holes and fault traces takes at \
              least {} triangles ({:.1} %): below that, decimation cuts corners and moves \
-             those lines by a cell",
+             those lines by a cell (--cover keeps them)",
             outline.corners,
             outline.min_triangles,
             100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64
@@ -272,7 +291,13 @@ pub fn decimate_scene(mesh: &SurfaceMesh, percent: f64, z_scale: f32) -> Result<
     if out.mesh.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }
-    Ok(out.mesh)
+    let cover = if cover {
+        let cells = CellCover::of(mesh).context("the cells of the scene")?;
+        Some((out.pieces(mesh, &cells), cells))
+    } else {
+        None
+    };
+    Ok((out.mesh, cover))
 }
 
 /// `--lod PERCENT`: a share of the triangles in (0, 100].

@@ -128,6 +128,12 @@ pub struct RenderArgs {
     /// keep every corner of the outlines, holes and fault traces.
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent, conflicts_with = "iso")]
     lod: Option<f64>,
+    /// With --lod: let the outlines, holes and fault traces grow only outward in the
+    /// decimation, and draw each decimated surface over the original's cells only (a
+    /// cell mask by the global coordinates), so those lines stay exactly the
+    /// original's at any budget. Global wireframe only.
+    #[arg(long, requires = "lod")]
+    cover: bool,
 }
 
 fn parse_iso(s: &str) -> Result<(String, Option<f32>, u32), String> {
@@ -281,9 +287,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         flat_cells: !args.smooth && args.lod.is_none(),
     };
     let (mesh, range) = build(&grid, &options)?;
-    let mesh = match args.lod {
-        Some(percent) => super::lod::decimate_scene(&mesh, percent, args.zscale)?,
-        None => mesh,
+    if args.cover && args.wire != WireMode::Global {
+        bail!("--cover draws with --wire global, not {}", args.wire.name());
+    }
+    let (mesh, cover) = match args.lod {
+        Some(percent) => super::lod::decimate_scene(&mesh, percent, args.zscale, args.cover)?,
+        None => (mesh, None),
     };
     // Isolines need the property interpolated between nodes, whatever colours the
     // cells: one value per triangle corner of `mesh`.
@@ -315,9 +324,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 },
             )?
         }
-        None => renderer
-            .prepare(&mesh, args.wire)
-            .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?,
+        None => match &cover {
+            Some((pieces, cover)) => renderer
+                .prepare_covered(&mesh, pieces, cover)
+                .context("preparing the masked global wireframe")?,
+            None => renderer
+                .prepare(&mesh, args.wire)
+                .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?,
+        },
     };
     let (lo, hi) = mesh.bounds().ok_or_else(|| anyhow!("empty scene"))?;
     let bounds = (Vec3::from(lo), Vec3::from(hi));
