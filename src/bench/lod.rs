@@ -284,12 +284,7 @@ impl Method {
                 &Options {
                     target_triangles: target,
                     z_scale: Z_SCALE,
-                    cover: true,
-                    // The mask draws the outlines: no planes hold them. Emerald at 10 %
-                    // (F1 of both views): weight 0 0.864 / 0.833, 0.25 0.871 / 0.812,
-                    // 1 0.861 / 0.797, 4 0.824 (worse view).
-                    boundary_weight: 0.0,
-                    ..Options::default()
+                    ..Options::covering(mesh, fraction)
                 },
             )?,
             Method::Meshopt(s) => simplify(mesh, s, target, Z_SCALE)?,

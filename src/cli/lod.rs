@@ -254,15 +254,11 @@ pub fn decimate_scene(
     let start = Instant::now();
     let options = Options {
         z_scale,
-        cover,
-        // The mask draws the outlines wherever the decimated ones lie: no planes hold
-        // them in place (measured on emerald at 10 %, `strata bench lod`).
-        boundary_weight: if cover {
-            0.0
+        ..if cover {
+            Options::covering(mesh, percent / 100.0)
         } else {
-            Options::default().boundary_weight
-        },
-        ..Options::fraction(mesh, percent / 100.0)
+            Options::fraction(mesh, percent / 100.0)
+        }
     };
     let out = decimate(mesh, &options).context("decimating the scene")?;
     eprintln!(

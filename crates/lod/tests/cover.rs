@@ -22,9 +22,7 @@ const SAMPLES: [[f64; 2]; 4] = [
 fn decimate_covering(mesh: &SurfaceMesh, fraction: f64) -> Decimated {
     let options = Options {
         z_scale: 5.0,
-        cover: true,
-        boundary_weight: 0.0,
-        ..Options::fraction(mesh, fraction)
+        ..Options::covering(mesh, fraction)
     };
     decimate(mesh, &options).expect("decimate")
 }

@@ -53,11 +53,7 @@ fn surface_difference(a: &Frame, b: &Frame) -> usize {
 #[test]
 fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     let mesh = staircase();
-    let options = Options {
-        cover: true,
-        boundary_weight: 0.0,
-        ..Options::fraction(&mesh, 0.05)
-    };
+    let options = Options::covering(&mesh, 0.05);
     let out = decimate(&mesh, &options).expect("decimate");
     let cover = CellCover::of(&mesh).expect("cell faces");
     let pieces = out.pieces(&mesh, &cover);
