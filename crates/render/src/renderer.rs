@@ -127,6 +127,16 @@ pub struct Renderer {
     targets: Option<Targets>,
 }
 
+/// `f`, with a GPU validation error it raises returned as an error.
+fn validated<T>(gpu: &Gpu, f: impl FnOnce() -> Result<T>) -> Result<T> {
+    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let result = f();
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(Error::Gpu(e.to_string()));
+    }
+    result
+}
+
 impl Renderer {
     pub fn new(gpu: Gpu) -> Result<Self> {
         let device = &gpu.device;
@@ -220,15 +230,7 @@ impl Renderer {
     pub fn prepare(&mut self, mesh: &SurfaceMesh, mode: WireMode) -> Result<Box<dyn Drawable>> {
         self.ensure_technique(mode);
         let technique = &self.techniques[&mode];
-        let scope = self
-            .gpu
-            .device
-            .push_error_scope(wgpu::ErrorFilter::Validation);
-        let prepared = technique.prepare(&self.gpu, mesh);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(e.to_string()));
-        }
-        prepared
+        validated(&self.gpu, || technique.prepare(&self.gpu, mesh))
     }
 
     /// Uploads a decimated `mesh` for drawing with the global wireframe over the cells
@@ -242,23 +244,15 @@ impl Renderer {
         pieces: &[u32],
         cover: &CellCover,
     ) -> Result<Box<dyn Drawable>> {
-        let scope = self
-            .gpu
-            .device
-            .push_error_scope(wgpu::ErrorFilter::Validation);
-        let technique = match self.covered.take() {
-            Some(t) => t,
-            None => wire::CoveredTechnique::new(&PipelineContext {
-                gpu: &self.gpu,
-                frame_layout: &self.frame_layout,
-            }),
-        };
-        let prepared = technique.prepare(&self.gpu, mesh, pieces, cover);
-        self.covered = Some(technique);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(e.to_string()));
-        }
-        prepared
+        validated(&self.gpu, || {
+            let technique = self.covered.get_or_insert_with(|| {
+                wire::CoveredTechnique::new(&PipelineContext {
+                    gpu: &self.gpu,
+                    frame_layout: &self.frame_layout,
+                })
+            });
+            technique.prepare(&self.gpu, mesh, pieces, cover)
+        })
     }
 
     /// What a technique outside the wire registry (e.g. the contour baseline) needs

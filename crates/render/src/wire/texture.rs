@@ -103,16 +103,10 @@ impl Technique for VertexTechnique {
                     .collect();
                 (bytemuck::cast_slice(&v).to_vec(), l.triangles)
             }
-            _ => {
-                let v: Vec<UvVertex> = (0..mesh.vertex_count())
-                    .map(|i| UvVertex {
-                        position: mesh.positions[i],
-                        uv: mesh.texcoords[i],
-                        scalar: scalar_at(mesh, i),
-                    })
-                    .collect();
-                (bytemuck::cast_slice(&v).to_vec(), mesh.triangles.clone())
-            }
+            _ => (
+                bytemuck::cast_slice(&uv_vertices(mesh)).to_vec(),
+                mesh.triangles.clone(),
+            ),
         };
         Ok(Box::new(IndexedDraw::new(
             gpu,
@@ -122,6 +116,17 @@ impl Technique for VertexTechnique {
             self.mode.name(),
         )?))
     }
+}
+
+/// The vertices of `mesh` with their global coordinates.
+fn uv_vertices(mesh: &SurfaceMesh) -> Vec<UvVertex> {
+    (0..mesh.vertex_count())
+        .map(|i| UvVertex {
+            position: mesh.positions[i],
+            uv: mesh.texcoords[i],
+            scalar: scalar_at(mesh, i),
+        })
+        .collect()
 }
 
 /// Every cell face gets its own four vertices with coordinates -1 / +1 on opposite
@@ -487,17 +492,10 @@ impl CoveredTechnique {
                 resource: wgpu::BindingResource::TextureView(&view),
             }],
         });
-        let vertices: Vec<UvVertex> = (0..mesh.vertex_count())
-            .map(|i| UvVertex {
-                position: mesh.positions[i],
-                uv: mesh.texcoords[i],
-                scalar: scalar_at(mesh, i),
-            })
-            .collect();
         let draw = IndexedDraw::new(
             gpu,
             self.pipelines.clone(),
-            bytemuck::cast_slice(&vertices),
+            bytemuck::cast_slice(&uv_vertices(mesh)),
             &mesh.triangles,
             "global covered",
         )?;
