@@ -589,10 +589,6 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                 .max(f64::MIN_POSITIVE)
         };
         let reference = scene.draw(&mut renderer, &original, None)?;
-        let covers: Vec<CellCover> = layers
-            .iter()
-            .map(CellCover::of)
-            .collect::<strata_lod::Result<_>>()?;
         eprintln!(
             "{label}: {} triangles in {} layer surfaces",
             original.triangle_count(),
@@ -628,7 +624,10 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                 } else if matches!(method, Method::OursCover) {
                     let mut cover = CellCover::default();
                     let mut pieces = Vec::with_capacity(mesh.vertex_count());
-                    for ((layer, d), c) in layers.iter().zip(&decimated).zip(&covers) {
+                    for (layer, d) in layers.iter().zip(&decimated) {
+                        let Some(c) = &d.cover else {
+                            anyhow::bail!("{label}: a covering decimation returned no cover");
+                        };
                         let first = cover.pieces.len() as u32;
                         pieces.extend(d.pieces(layer, c).into_iter().map(|p| p + first));
                         cover.append(c);

@@ -260,7 +260,7 @@ pub fn decimate_scene(
             Options::fraction(mesh, percent / 100.0)
         }
     };
-    let out = decimate(mesh, &options).context("decimating the scene")?;
+    let mut out = decimate(mesh, &options).context("decimating the scene")?;
     eprintln!(
         "decimated {} -> {} triangles ({:.1} %), {} new vertices, error {:.3} in {:.2} s",
         mesh.triangle_count(),
@@ -287,12 +287,10 @@ pub fn decimate_scene(
     if out.mesh.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }
-    let cover = if cover {
-        let cells = CellCover::of(mesh).context("the cells of the scene")?;
-        Some((out.pieces(mesh, &cells), cells))
-    } else {
-        None
-    };
+    let cover = out
+        .cover
+        .take()
+        .map(|cells| (out.pieces(mesh, &cells), cells));
     Ok((out.mesh, cover))
 }
 

@@ -208,6 +208,9 @@ pub struct Decimated {
     /// coordinates and scalar in length units), in display length units.
     pub error: f32,
     pub collapses: usize,
+    /// With [`Options::cover`], the input's cells, which the decimation kept covered:
+    /// the renderer's mask (with [`Decimated::pieces`]).
+    pub cover: Option<CellCover>,
     /// Where the time went, for profiling.
     pub timings: Timings,
 }
@@ -1945,6 +1948,7 @@ impl<'a> Collapser<'a> {
             home,
             error: self.max_cost.sqrt() as f32,
             collapses: self.collapses,
+            cover: self.cover,
             timings: self.timings,
         }
     }
