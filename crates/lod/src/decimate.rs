@@ -1286,8 +1286,9 @@ impl<'a> Collapser<'a> {
         sign != 0 && area * f64::from(sign) > 1e-9
     }
 
-    /// Moves `gone` onto `keep`, which takes placement `p`.
-    fn collapse(&mut self, keep: u32, gone: u32, p: &Spot, moved: bool) {
+    /// Moves `gone` onto `keep`, which takes placement `p` and `q`, the sum of both
+    /// ends' quadrics.
+    fn collapse(&mut self, keep: u32, gone: u32, q: &Quadric, p: &Spot, moved: bool) {
         let (gs, ge) = (
             self.start[gone as usize] as usize,
             self.start[gone as usize + 1] as usize,
@@ -1309,7 +1310,7 @@ impl<'a> Collapser<'a> {
             }
         }
         let (k, g) = (keep as usize, gone as usize);
-        self.q[k] = self.quadric(keep).sum(&self.quadric(gone)).around(&p.x);
+        self.q[k] = q.around(&p.x);
         self.x[k] = p.x;
         self.position[k] = p.position;
         self.texcoord[k] = p.texcoord;
@@ -1659,7 +1660,7 @@ impl<'a> Collapser<'a> {
                     return;
                 }
                 if exact <= bound && self.can_collapse(a, b, &p, true) {
-                    self.collapse(a, b, &p, true);
+                    self.collapse(a, b, &q, &p, true);
                     self.max_cost = self.max_cost.max(exact);
                     return;
                 }
@@ -1685,7 +1686,7 @@ impl<'a> Collapser<'a> {
             && self.grows_outward(gone, keep)
             && self.can_collapse(keep, gone, &p, false)
         {
-            self.collapse(keep, gone, &p, false);
+            self.collapse(keep, gone, &q, &p, false);
             self.max_cost = self.max_cost.max(exact);
         }
     }
