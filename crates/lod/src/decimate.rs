@@ -44,7 +44,7 @@ use std::time::Instant;
 use strata_grid::SurfaceMesh;
 
 use crate::cover::CellCover;
-use crate::quadric::{Local, Point, Quadric};
+use crate::quadric::{DIM, Local, Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
 };
@@ -884,10 +884,20 @@ impl<'a> Collapser<'a> {
         ])
     }
 
-    /// The quadric of vertex `v`, around the frame's origin.
+    /// The sum of the quadrics of `a` and `b`, written around `a`'s joint point: the
+    /// points it is evaluated at are then [`Collapser::from`] `a`, of the size of an
+    /// edge, and only `b`'s quadric moves.
     #[inline]
-    fn quadric(&self, v: u32) -> Quadric {
-        self.q[v as usize].at(&self.x[v as usize])
+    fn pair(&self, a: u32, b: u32) -> Quadric {
+        let offset = self.from(b, &self.x[a as usize]);
+        self.q[a as usize].plus_moved(&self.q[b as usize], &offset)
+    }
+
+    /// Joint point `x` relative to `v`'s.
+    #[inline]
+    fn from(&self, v: u32, x: &Point) -> Point {
+        let o = &self.x[v as usize];
+        std::array::from_fn(|k| x[k] - o[k])
     }
 
     /// Cost and placement of collapsing edge `a b` (for a new point, the cost of the
@@ -926,8 +936,10 @@ impl<'a> Collapser<'a> {
             keep_a &= self.grows_outward(b, a);
             keep_b &= self.grows_outward(a, b);
         }
-        let q = self.quadric(a).sum(&self.quadric(b));
-        let (xa, xb) = (&self.x[a as usize], &self.x[b as usize]);
+        // Around `a`'s point, where `a` is the origin.
+        let q = self.pair(a, b);
+        let xa = &[0.0; DIM];
+        let xb = &self.from(a, &self.x[b as usize]);
         let (ua, ub) = (
             self.texcoord[a as usize].map(f64::from),
             self.texcoord[b as usize].map(f64::from),
@@ -1287,8 +1299,8 @@ impl<'a> Collapser<'a> {
     }
 
     /// Moves `gone` onto `keep`, which takes placement `p` and `q`, the sum of both
-    /// ends' quadrics.
-    fn collapse(&mut self, keep: u32, gone: u32, q: &Quadric, p: &Spot, moved: bool) {
+    /// ends' quadrics around `p`.
+    fn collapse(&mut self, keep: u32, gone: u32, q: Local, p: &Spot, moved: bool) {
         let (gs, ge) = (
             self.start[gone as usize] as usize,
             self.start[gone as usize + 1] as usize,
@@ -1310,7 +1322,7 @@ impl<'a> Collapser<'a> {
             }
         }
         let (k, g) = (keep as usize, gone as usize);
-        self.q[k] = q.around(&p.x);
+        self.q[k] = q;
         self.x[k] = p.x;
         self.position[k] = p.position;
         self.texcoord[k] = p.texcoord;
@@ -1646,13 +1658,13 @@ impl<'a> Collapser<'a> {
     /// off the surface, costs more than `bound` or folds a triangle) if the checks
     /// pass and the exact cost stays within `bound`.
     fn try_collapse(&mut self, a: u32, b: u32, choice: Choice, bound: f64) {
-        let q = self.quadric(a).sum(&self.quadric(b));
+        let q = self.pair(a, b);
         if let Choice::Point { uv, lift } = choice {
             if let Some(p) = self.place(a, b, choice) {
                 // The texture plane's estimate can be well under the exact cost on the
                 // original surface; an endpoint (exact) may then still be within the
                 // bound.
-                let exact = q.error(&p.x);
+                let exact = q.error(&self.from(a, &p.x));
                 // A lifted point leaves the original by no more than the collapse's
                 // error (`Placement::Optimal`); else the same point on the surface.
                 if f64::from(lift).powi(2) > exact {
@@ -1660,7 +1672,7 @@ impl<'a> Collapser<'a> {
                     return;
                 }
                 if exact <= bound && self.can_collapse(a, b, &p, true) {
-                    self.collapse(a, b, &q, &p, true);
+                    self.collapse(a, b, q.around(&self.from(a, &p.x)), &p, true);
                     self.max_cost = self.max_cost.max(exact);
                     return;
                 }
@@ -1679,14 +1691,14 @@ impl<'a> Collapser<'a> {
         let Some(p) = self.place(a, b, choice) else {
             return;
         };
-        let exact = q.error(&p.x);
+        let exact = q.error(&self.from(a, &p.x));
         // Earlier collapses of the pass may have moved `gone`'s neighbours on the
         // boundary since the edge was evaluated.
         if exact <= bound
             && self.grows_outward(gone, keep)
             && self.can_collapse(keep, gone, &p, false)
         {
-            self.collapse(keep, gone, &q, &p, false);
+            self.collapse(keep, gone, q.around(&self.from(a, &p.x)), &p, false);
             self.max_cost = self.max_cost.max(exact);
         }
     }
@@ -1861,13 +1873,14 @@ impl<'a> Collapser<'a> {
             // coordinates: where the vertex is, unless an earlier lift (a level of a
             // hierarchy is decimated from the one below) or `Placement::Optimal` put it
             // off the surface.
-            let q = self.quadric(v);
+            // Around the vertex's own point.
+            let q = self.q[v as usize].widened();
             let x = self.x[v as usize];
             let uv = self.texcoord[v as usize];
             let Some(foot) = self.place(v, v, Choice::Point { uv, lift: 0.0 }) else {
                 continue;
             };
-            let bound = q.error(&x).sqrt();
+            let bound = q.error(&[0.0; DIM]).sqrt();
             let lift = (dot3(sub3(&x, &foot.x), normal) + step).clamp(-bound, bound);
             let p = match self.options.placement {
                 // The vertex keeps its texture point and scalar and moves along the
@@ -1902,7 +1915,7 @@ impl<'a> Collapser<'a> {
                     p
                 }
             };
-            let exact = q.error(&p.x);
+            let exact = q.error(&self.from(v, &p.x));
             if exact <= max_cost
                 && self
                     .star(v)
@@ -1911,7 +1924,7 @@ impl<'a> Collapser<'a> {
             {
                 let i = v as usize;
                 self.max_cost = self.max_cost.max(exact);
-                self.q[i] = q.around(&p.x);
+                self.q[i] = q.around(&self.from(v, &p.x));
                 self.x[i] = p.x;
                 self.position[i] = p.position;
                 self.texcoord[i] = p.texcoord;
@@ -2127,10 +2140,7 @@ mod tests {
             if !matches!(point, Choice::Point { .. }) {
                 return None;
             }
-            let exact = c
-                .quadric(a)
-                .sum(&c.quadric(b))
-                .error(&c.place(a, b, point)?.x);
+            let exact = c.pair(a, b).error(&c.from(a, &c.place(a, b, point)?.x));
             let (endpoint, keep) = c.evaluate(a, b, true, t)?;
             let spot = c.place(a, b, keep)?;
             let (kept, gone) = if matches!(keep, Choice::KeepB) {
@@ -2180,9 +2190,8 @@ mod tests {
                     "edge {a} {b} of triangle {t}: {uv:?} across"
                 );
                 let exact = c
-                    .quadric(a)
-                    .sum(&c.quadric(b))
-                    .error(&c.place(a, b, point).unwrap().x);
+                    .pair(a, b)
+                    .error(&c.from(a, &c.place(a, b, point).unwrap().x));
                 points += 1;
                 if exact > PASS_ERROR_BOUND * estimate + c.tie {
                     underestimated += 1;

@@ -64,23 +64,32 @@ impl Local {
         self.w += q.w as f32;
     }
 
-    /// The quadric, written around the frame's origin again, given the point
-    /// `origin` it is kept around.
-    pub fn at(&self, origin: &Point) -> Quadric {
-        let mut q = Quadric {
+    /// The quadric in double precision, around the point it is kept around.
+    #[inline]
+    pub fn widened(&self) -> Quadric {
+        Quadric {
             a: self.a.map(f64::from),
-            b: [0.0; DIM],
+            b: self.b.map(f64::from),
             c: f64::from(self.c),
             w: f64::from(self.w),
-        };
-        // x ↦ (x - o)ᵀ A (x - o) + 2 b'ᵀ (x - o) + c'
-        let ao = q.apply(origin);
-        let b: Point = self.b.map(f64::from);
-        for k in 0..DIM {
-            q.b[k] = b[k] - ao[k];
         }
-        q.c += dot(origin, &ao) - 2.0 * dot(&b, origin);
-        q
+    }
+
+    /// This quadric plus `other`, both written around this one's point, which is
+    /// `offset` from `other`'s, in double precision: `other`'s part becomes
+    /// `d ↦ dᵀ A d + 2 (A e + b)ᵀ d + eᵀ A e + 2 bᵀ e + c` with `e = offset`. The sum
+    /// of a collapse's two ends in one go, without a copy of either: it is formed
+    /// for every edge of every pass.
+    #[inline]
+    pub fn plus_moved(&self, other: &Local, offset: &Point) -> Quadric {
+        let moved = other.widened();
+        let ae = moved.apply(offset);
+        Quadric {
+            a: std::array::from_fn(|k| f64::from(self.a[k]) + moved.a[k]),
+            b: std::array::from_fn(|k| f64::from(self.b[k]) + moved.b[k] + ae[k]),
+            c: f64::from(self.c) + moved.c + dot(offset, &ae) + 2.0 * dot(&moved.b, offset),
+            w: f64::from(self.w) + moved.w,
+        }
     }
 }
 
@@ -142,17 +151,13 @@ impl Quadric {
         out
     }
 
+    /// Sums in place; decimation sums as it moves ([`Local::plus_moved`]).
+    #[cfg(test)]
     pub fn add(&mut self, o: &Quadric) {
         self.a.iter_mut().zip(&o.a).for_each(|(x, y)| *x += y);
         self.b.iter_mut().zip(&o.b).for_each(|(x, y)| *x += y);
         self.c += o.c;
         self.w += o.w;
-    }
-
-    pub fn sum(&self, o: &Quadric) -> Quadric {
-        let mut s = *self;
-        s.add(o);
-        s
     }
 
     /// The same function written around `origin`: `d ↦ dᵀ A d + 2 b'ᵀ d + c'` with
@@ -202,6 +207,7 @@ impl Quadric {
     }
 
     /// `xᵀ A x + 2 bᵀ x + c`, never negative.
+    #[inline]
     pub fn value(&self, x: &Point) -> f64 {
         let ax = self.apply(x);
         (dot(x, &ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
@@ -209,6 +215,7 @@ impl Quadric {
 
     /// The mean squared distance at `x`: `value / w` (the value itself when nothing
     /// with an area was summed in).
+    #[inline]
     pub fn error(&self, x: &Point) -> f64 {
         let v = self.value(x);
         if self.w > 0.0 { v / self.w } else { v }
@@ -218,6 +225,7 @@ impl Quadric {
     /// quadric's value there, given `A x0` and `A J`; `None` when the quadric
     /// restricted to that plane is not well conditioned (flat along some direction,
     /// so the minimum is not unique).
+    #[inline]
     pub fn minimize_on_plane(
         &self,
         x0: &Point,
@@ -292,6 +300,7 @@ impl Quadric {
 
     /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
     /// there, given `A x0` and `A e`.
+    #[inline]
     pub fn minimize_on_segment(
         &self,
         x0: &Point,
@@ -354,8 +363,14 @@ mod tests {
         let mut local = Local::default();
         local.add_through(&t1);
         local.add_through(&t2);
-        let exact = t1.sum(&t2);
-        let kept = local.at(&o);
+        let mut exact = t1;
+        exact.add(&t2);
+        // Written around the frame's origin, and around the neighbouring corner `r`
+        // as a collapse of the edge `o r` sees it.
+        let moved = |local: &Local, offset: &Point| Local::default().plus_moved(local, offset);
+        let minus = |x: &Point| x.map(|c| -c);
+        let kept = moved(&local, &minus(&o));
+        let from_r = moved(&local, &std::array::from_fn(|k| r[k] - o[k]));
         // Points a cell or two away, off the planes by metres.
         for x in [
             pt(4_020.0, 7_010.0, -8_001.0, 801.8, 1203.4, 0.22),
@@ -365,11 +380,13 @@ mod tests {
             let (want, got) = (exact.value(&x), kept.value(&x));
             assert!(want > 1.0, "{x:?} is off the planes");
             assert!((got - want).abs() < 1e-5 * want, "{got} against {want}");
+            let near = from_r.value(&std::array::from_fn(|k| x[k] - r[k]));
+            assert!((near - want).abs() < 1e-5 * want, "{near} against {want}");
         }
         // Moved to another point and back, through single precision both times:
         // where the value is near zero, the mean squared distance (value / weight)
         // is off by under 1e-5 m².
-        let there = kept.around(&p).at(&p);
+        let there = moved(&kept.around(&p), &minus(&p));
         for x in [o, p, r] {
             let (want, got) = (exact.value(&x), there.value(&x));
             assert!(
