@@ -950,6 +950,13 @@ impl<'a> Collapser<'a> {
         // the texture plane, `xb - xa = J (ub - ua)`, so `A xb` follows from the
         // others without a product of its own.
         let axa = q.apply(xa);
+        // Nothing beats keeping `a` by more than a tie when that costs a tie or less
+        // (costs are never negative): on flat, affine regions most edges end here,
+        // before the texture plane is formed.
+        let keep_a_cost = q.error_with(xa, &axa);
+        if keep_a && keep_a_cost <= self.tie {
+            return Some((keep_a_cost, Choice::KeepA));
+        }
         let plane = if free {
             self.jacobian(first)
                 .map(|j| (j, [q.apply(&j[0]), q.apply(&j[1])]))
@@ -969,7 +976,7 @@ impl<'a> Collapser<'a> {
             }
         };
         if keep_a {
-            consider(q.error_with(xa, &axa), Choice::KeepA);
+            consider(keep_a_cost, Choice::KeepA);
         }
         if keep_b {
             consider(q.error_with(xb, &axb), Choice::KeepB);
