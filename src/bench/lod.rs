@@ -22,9 +22,13 @@
 //! goal's 10 % budget: where the budget is smaller, every simplifier must cut outline
 //! corners, and the line-pixel F1 drops for a reason no simplifier can help.
 //!
-//! Ours runs with both placements of new vertices: `strata` (on the original surface,
-//! the default) and `strata_optimal` (at the quadric optimum off it, with the texture
-//! coordinates of the nearest original point), and as `strata_cover`: outlines that
+//! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, or, on a
+//! layer surface whose budget is below its outline bound, meshopt_simplify's result
+//! where that draws the grid lines nearer (lower RMS distance; the rows count those
+//! layers). Ours alone runs with both placements of new vertices: `strata_alone` (on
+//! the original surface, the default) and `strata_optimal` (at the quadric optimum off
+//! it, with the texture coordinates of the nearest original point), and as
+//! `strata_cover`: outlines that
 //! only grow outward (`Options::cover`), drawn with the renderer's cell mask
 //! (`Renderer::prepare_covered`), so that outline corners cost no triangles.
 //!
@@ -46,7 +50,7 @@ use strata_grid::synth::{SynthParams, generate};
 use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface};
 use strata_lod::baseline::{Simplifier, simplify};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
-use strata_lod::{CellCover, Decimated, Options, Placement, decimate};
+use strata_lod::{CellCover, Decimated, Maker, Options, Placement, decimate, decimate_chosen};
 use strata_render::glam::Vec3;
 use strata_render::{Camera, Renderer, Style, View, WireMode};
 
@@ -143,6 +147,9 @@ pub struct Fidelity {
     /// Share of samples whose texture coordinate the decimated surface no longer
     /// draws (outside its simplified boundary).
     pub outside: f64,
+    /// Layer surfaces that meshoptimizer decimated (`strata` only: where it drew
+    /// the grid lines nearer, below the outline bound).
+    pub meshopt_layers: usize,
     /// Worst view: F1 of line pixels within one pixel, strict F1, and RMS colour.
     pub f1: f64,
     pub f1_strict: f64,
@@ -240,6 +247,10 @@ const MODELS: [Model; 5] = [
 /// Who decimates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
+    /// What strata draws with ([`decimate_chosen`]): ours, or meshopt_simplify's
+    /// where a budget below the outline bound makes it draw the grid lines nearer.
+    Strata,
+    /// Ours alone.
     Ours(Placement),
     /// Ours with outlines that only grow outward, drawn with the cell mask.
     OursCover,
@@ -249,6 +260,7 @@ enum Method {
 impl Method {
     fn all() -> Vec<Method> {
         [
+            Method::Strata,
             Method::Ours(Placement::Surface),
             Method::Ours(Placement::Optimal),
             Method::OursCover,
@@ -260,34 +272,41 @@ impl Method {
 
     fn name(self) -> &'static str {
         match self {
-            Method::Ours(Placement::Surface) => "strata",
+            Method::Strata => "strata",
+            Method::Ours(Placement::Surface) => "strata_alone",
             Method::Ours(Placement::Optimal) => "strata_optimal",
             Method::OursCover => "strata_cover",
             Method::Meshopt(s) => s.name(),
         }
     }
 
-    fn run(self, mesh: &SurfaceMesh, fraction: f64) -> Result<Decimated> {
+    /// The decimation, and whether meshoptimizer made it for [`Method::Strata`].
+    fn run(self, mesh: &SurfaceMesh, fraction: f64) -> Result<(Decimated, bool)> {
         let target = (mesh.triangle_count() as f64 * fraction).round() as usize;
+        let ours = |placement| Options {
+            target_triangles: target,
+            z_scale: Z_SCALE,
+            placement,
+            ..Options::default()
+        };
         Ok(match self {
-            Method::Ours(placement) => decimate(
-                mesh,
-                &Options {
-                    target_triangles: target,
-                    z_scale: Z_SCALE,
-                    placement,
-                    ..Options::default()
-                },
-            )?,
-            Method::OursCover => decimate(
-                mesh,
-                &Options {
-                    target_triangles: target,
-                    z_scale: Z_SCALE,
-                    ..Options::covering(mesh, fraction)
-                },
-            )?,
-            Method::Meshopt(s) => simplify(mesh, s, target, Z_SCALE)?,
+            Method::Strata => {
+                let chosen = decimate_chosen(mesh, &ours(Placement::Surface))?;
+                (chosen.decimated, chosen.maker == Maker::Meshopt)
+            }
+            Method::Ours(placement) => (decimate(mesh, &ours(placement))?, false),
+            Method::OursCover => (
+                decimate(
+                    mesh,
+                    &Options {
+                        target_triangles: target,
+                        z_scale: Z_SCALE,
+                        ..Options::covering(mesh, fraction)
+                    },
+                )?,
+                false,
+            ),
+            Method::Meshopt(s) => (simplify(mesh, s, target, Z_SCALE)?, false),
         })
     }
 }
@@ -596,10 +615,12 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
         );
         for method in Method::all() {
             for &budget in config.budgets {
-                let decimated: Vec<Decimated> =
+                let (decimated, by_meshopt): (Vec<Decimated>, Vec<bool>) =
                     par_map(layers, cores, |m| method.run(m, budget / 100.0))
                         .into_iter()
-                        .collect::<Result<_>>()?;
+                        .collect::<Result<Vec<_>>>()?
+                        .into_iter()
+                        .unzip();
                 let mesh = append_all(
                     &decimated.iter().map(|d| d.mesh.clone()).collect::<Vec<_>>(),
                     origin,
@@ -672,6 +693,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                     line_max_rel: line_max / extent,
                     line_rms_rel: line_rms / extent,
                     outside,
+                    meshopt_layers: by_meshopt.iter().filter(|&&b| b).count(),
                     f1: views.iter().map(|v| v.f1).fold(1.0, f64::min),
                     f1_strict: views.iter().map(|v| v.f1_strict).fold(1.0, f64::min),
                     rms_colour: views.iter().map(|v| v.rms_colour).fold(0.0, f64::max),
@@ -721,6 +743,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                 let results: Vec<Decimated> =
                     par_map(layers, threads, |m| method.run(m, GOAL_BUDGET / 100.0))
                         .into_iter()
+                        .map(|r| r.map(|(d, _)| d))
                         .collect::<Result<_>>()?;
                 repeats += 1;
                 let now = cpu_times();
@@ -731,16 +754,17 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
             };
             let seconds = wall.elapsed().as_secs_f64() / repeats as f64;
             let cpu = user + system;
-            let stages = matches!(method, Method::Ours(_) | Method::OursCover).then(|| {
-                results.iter().fold(Stages::default(), |s, r| Stages {
-                    reference: s.reference + r.timings.reference,
-                    setup: s.setup + r.timings.setup,
-                    evaluate: s.evaluate + r.timings.evaluate,
-                    collapse: s.collapse + r.timings.collapse,
-                    lift: s.lift + r.timings.lift,
-                    passes: s.passes.max(r.timings.passes),
-                })
-            });
+            let stages = matches!(method, Method::Strata | Method::Ours(_) | Method::OursCover)
+                .then(|| {
+                    results.iter().fold(Stages::default(), |s, r| Stages {
+                        reference: s.reference + r.timings.reference,
+                        setup: s.setup + r.timings.setup,
+                        evaluate: s.evaluate + r.timings.evaluate,
+                        collapse: s.collapse + r.timings.collapse,
+                        lift: s.lift + r.timings.lift,
+                        passes: s.passes.max(r.timings.passes),
+                    })
+                });
             drop(results);
             let row = Speed {
                 input: label.clone(),
@@ -877,7 +901,7 @@ pub fn print_table(report: &LodReport) {
     }
     println!();
     println!(
-        "{:<12} {:<20} {:>6} {:>9} {:>10} {:>10} {:>7} {:>7} {:>7} {:>7}",
+        "{:<12} {:<20} {:>6} {:>9} {:>10} {:>10} {:>7} {:>7} {:>7} {:>7} {:>8}",
         "model",
         "simplifier",
         "budget",
@@ -887,11 +911,12 @@ pub fn print_table(report: &LodReport) {
         "outside",
         "F1",
         "strict",
-        "RMS col"
+        "RMS col",
+        "meshopt"
     );
     for f in &report.fidelity {
         println!(
-            "{:<12} {:<20} {:>5.0}% {:>9} {:>10.2e} {:>10.2e} {:>7.4} {:>7.3} {:>7.3} {:>7.2}",
+            "{:<12} {:<20} {:>5.0}% {:>9} {:>10.2e} {:>10.2e} {:>7.4} {:>7.3} {:>7.3} {:>7.2} {:>8}",
             f.model,
             f.simplifier,
             f.budget_percent,
@@ -901,7 +926,8 @@ pub fn print_table(report: &LodReport) {
             f.outside,
             f.f1,
             f.f1_strict,
-            f.rms_colour
+            f.rms_colour,
+            f.meshopt_layers
         );
     }
     println!();

@@ -8,7 +8,9 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand};
 use strata::grid::SurfaceMesh;
 use strata::lod::measure::outline_bound;
-use strata::lod::{BuildOptions, CellCover, LodFile, Options, ViewPoint, build_file, decimate};
+use strata::lod::{
+    BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
+};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
 use strata::scene::colour_range;
@@ -260,9 +262,14 @@ pub fn decimate_scene(
             Options::fraction(mesh, percent / 100.0)
         }
     };
-    let mut out = decimate(mesh, &options).context("decimating the scene")?;
+    let chosen = decimate_chosen(mesh, &options).context("decimating the scene")?;
+    let mut out = chosen.decimated;
     eprintln!(
-        "decimated {} -> {} triangles ({:.1} %), {} new vertices, error {:.3} in {:.2} s",
+        "decimated by {} {} -> {} triangles ({:.1} %), {} new vertices, error {:.3} in {:.2} s",
+        match chosen.maker {
+            Maker::Strata => "strata",
+            Maker::Meshopt => "meshopt_simplify",
+        },
         mesh.triangle_count(),
         out.mesh.triangle_count(),
         100.0 * out.mesh.triangle_count() as f64 / mesh.triangle_count().max(1) as f64,
@@ -278,10 +285,16 @@ pub fn decimate_scene(
         eprintln!(
             "note: keeping the {} corners of the outlines, holes and fault traces takes at \
              least {} triangles ({:.1} %): below that, decimation cuts corners and moves \
-             those lines by a cell (--cover keeps them)",
+             those lines by a cell (--cover keeps them){}",
             outline.corners,
             outline.min_triangles,
-            100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64
+            100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
+            chosen
+                .compared
+                .map_or(String::new(), |(ours, theirs)| format!(
+                    "; RMS distance of the grid lines {ours:.3} with strata's, {theirs:.3} with \
+                 meshopt_simplify's, the nearer kept"
+                ))
         );
     }
     if out.mesh.is_empty() {

@@ -181,6 +181,7 @@ pub fn simplify(
         home,
         error: error * extent as f32,
         collapses: 0,
+        outline_vertices: 0,
         cover: None,
         timings: Default::default(),
     })

@@ -208,6 +208,13 @@ pub struct Decimated {
     /// coordinates and scalar in length units), in display length units.
     pub error: f32,
     pub collapses: usize,
+    /// Input vertices on outlines, holes and fault traces (on an edge without a
+    /// single neighbour), and locked ones: at least the outline corners, so where
+    /// every piece has an outline (a reservoir layer's always has), a target of this
+    /// many triangles or more can keep them all ([`crate::measure::outline_bound`]
+    /// counts exactly, at the cost of another pass over the mesh). 0 from
+    /// meshoptimizer's simplifiers.
+    pub outline_vertices: usize,
     /// With [`Options::cover`], the input's cells, which the decimation kept covered:
     /// the renderer's mask (with [`Decimated::pieces`]).
     pub cover: Option<CellCover>,
@@ -609,6 +616,8 @@ struct Collapser<'a> {
     live: usize,
     /// Vertices in a live triangle.
     live_vertices: usize,
+    /// See [`Decimated::outline_vertices`].
+    outline_vertices: usize,
     /// Vertex-to-triangle lists of live triangles, in compressed rows, rebuilt at the
     /// start of each pass. During a pass a list can hold triangles that died or no
     /// longer use the vertex (they are skipped), and never misses one, except for the
@@ -790,6 +799,10 @@ impl<'a> Collapser<'a> {
         };
 
         let live_vertices = flags.iter().filter(|&&f| f & ALIVE != 0).count();
+        let outline_vertices = flags
+            .iter()
+            .filter(|&&f| f & (BOUNDARY | LOCKED) != 0)
+            .count();
         Ok(Collapser {
             input: mesh,
             reference,
@@ -820,6 +833,7 @@ impl<'a> Collapser<'a> {
             uv_sign,
             live: mesh.triangle_count(),
             live_vertices,
+            outline_vertices,
             start: vt.start,
             refs: vt.triangles,
             candidates: Vec::new(),
@@ -1980,6 +1994,7 @@ impl<'a> Collapser<'a> {
             home,
             error: self.max_cost.sqrt() as f32,
             collapses: self.collapses,
+            outline_vertices: self.outline_vertices,
             cover: self.cover,
             timings: self.timings,
         }

@@ -5,6 +5,8 @@
 //!   at most the error) with the original surface's texture coordinates and scalar
 //!   there, so the original grid wireframe (global coordinates) is still drawn where
 //!   it was on the simplified surface (Celes & Abraham 2011, section 5, Fig. 12).
+//! * [`decimate_chosen`]: ours, or meshoptimizer's `simplify` where a budget too small
+//!   to keep the outlines makes it draw the grid lines nearer to the original.
 //! * [`CellCover`]: the cells each piece of a surface covers, for decimation that lets
 //!   outlines grow only outward and a renderer that masks fragments by their cell.
 //! * [`baseline`]: meshoptimizer's simplifiers on the same meshes, to compare with,
@@ -16,6 +18,7 @@
 //!   where the original draws it.
 
 pub mod baseline;
+mod choose;
 mod cover;
 mod decimate;
 mod error;
@@ -25,6 +28,7 @@ pub mod measure;
 mod quadric;
 mod reference;
 
+pub use choose::{Chosen, Maker, decimate_chosen};
 pub use cover::{CellCover, CoverPiece, cell_of};
 pub use decimate::{Decimated, NEW, Options, Placement, Timings, decimate, decimate_on};
 pub use error::{Error, Result};
