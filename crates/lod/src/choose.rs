@@ -70,7 +70,7 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
         options.target_triangles,
         options.z_scale,
     )?;
-    let rms = |d: &Decimated| {
+    let measure = |d: &Decimated| {
         deviation(
             mesh,
             &d.mesh,
@@ -78,10 +78,12 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
             SAMPLES_PER_EDGE,
             f64::from(options.z_scale),
         )
-        .rms
     };
-    let compared = (rms(&ours), rms(&theirs));
-    Ok(if compared.1 < compared.0 {
+    let (mine, other) = (measure(&ours), measure(&theirs));
+    let compared = (mine.rms, other.rms);
+    // A sample is measured only where its piece of surface kept a triangle: one that
+    // measures fewer lost whole pieces (an empty result measures none, at RMS 0).
+    Ok(if other.samples >= mine.samples && other.rms < mine.rms {
         Chosen {
             decimated: theirs,
             maker: Maker::Meshopt,
@@ -175,6 +177,15 @@ mod tests {
             assert_eq!(chosen.maker, want, "target {target}");
             chosen.decimated.mesh.validate().unwrap();
         }
+    }
+
+    #[test]
+    fn an_empty_result_never_wins() {
+        // meshoptimizer takes a target of no triangle literally.
+        let chosen = decimate_chosen(&notched(), &Options::default()).unwrap();
+        assert!(chosen.compared.is_some());
+        assert_eq!(chosen.maker, Maker::Strata);
+        assert!(!chosen.decimated.mesh.is_empty());
     }
 
     #[test]
