@@ -1685,7 +1685,8 @@ impl<'a> Collapser<'a> {
                 // The texture plane's estimate can be well under the exact cost on the
                 // original surface; an endpoint (exact) may then still be within the
                 // bound.
-                let exact = q.error(&self.from(a, &p.x));
+                let at = self.from(a, &p.x);
+                let exact = q.error(&at);
                 // A lifted point leaves the original by no more than the collapse's
                 // error (`Placement::Optimal`); else the same point on the surface.
                 if f64::from(lift).powi(2) > exact {
@@ -1693,7 +1694,7 @@ impl<'a> Collapser<'a> {
                     return;
                 }
                 if exact <= bound && self.can_collapse(a, b, &p, true) {
-                    self.collapse(a, b, q.around(&self.from(a, &p.x)), &p, true);
+                    self.collapse(a, b, q.around(&at), &p, true);
                     self.max_cost = self.max_cost.max(exact);
                     return;
                 }
@@ -1712,14 +1713,15 @@ impl<'a> Collapser<'a> {
         let Some(p) = self.place(a, b, choice) else {
             return;
         };
-        let exact = q.error(&self.from(a, &p.x));
+        let at = self.from(a, &p.x);
+        let exact = q.error(&at);
         // Earlier collapses of the pass may have moved `gone`'s neighbours on the
         // boundary since the edge was evaluated.
         if exact <= bound
             && self.grows_outward(gone, keep)
             && self.can_collapse(keep, gone, &p, false)
         {
-            self.collapse(keep, gone, q.around(&self.from(a, &p.x)), &p, false);
+            self.collapse(keep, gone, q.around(&at), &p, false);
             self.max_cost = self.max_cost.max(exact);
         }
     }
