@@ -15,13 +15,14 @@
 use strata_grid::SurfaceMesh;
 
 use crate::baseline::{Simplifier, simplify};
-use crate::measure::{deviation, outline_bound};
+use crate::measure::{GridLines, outline_bound};
 use crate::{Decimated, Options, Result, decimate};
 
 /// Points sampled along each original cell edge to compare the two decimations: a
 /// grid node and the edge's midpoint. On emerald at 10 % (the bench's first view),
 /// 1, 2 and 4 samples chose decimations of F1 0.872, 0.871 and 0.871 and ran at 0.53,
-/// 0.45 and 0.35 M input triangles per CPU second, ours alone at 1.15.
+/// 0.45 and 0.35 M input triangles per CPU second, ours alone at 1.15 (2 samples run
+/// at 0.51 since both measures share one [`GridLines`], on the calling thread).
 const SAMPLES_PER_EDGE: usize = 2;
 
 /// Who made a [`Chosen`] decimation.
@@ -70,15 +71,8 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
         options.target_triangles,
         options.z_scale,
     )?;
-    let measure = |d: &Decimated| {
-        deviation(
-            mesh,
-            &d.mesh,
-            &d.home,
-            SAMPLES_PER_EDGE,
-            f64::from(options.z_scale),
-        )
-    };
+    let lines = GridLines::of(mesh, SAMPLES_PER_EDGE);
+    let measure = |d: &Decimated| lines.deviation(&d.mesh, &d.home, f64::from(options.z_scale));
     let (mine, other) = (measure(&ours), measure(&theirs));
     let compared = (mine.rms, other.rms);
     // A sample is measured only where its piece of surface kept a triangle: one that
@@ -101,6 +95,7 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::measure::deviation;
     use strata_grid::CellFace;
 
     /// A flat grid of 12 x 8 cells with a notch of 4 x 3 cells cut out of one side:

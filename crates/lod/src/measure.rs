@@ -196,6 +196,21 @@ impl<'m> UvIndex<'m> {
                     }
                     let c = self.mesh.triangles[t as usize]
                         .map(|v| self.mesh.texcoords[v as usize].map(f64::from));
+                    // No nearer than its box: most triangles of the rings (large ones
+                    // are in several buckets) end here.
+                    let gap = |a: usize| {
+                        let (lo, hi) = (
+                            c[0][a].min(c[1][a]).min(c[2][a]),
+                            c[0][a].max(c[1][a]).max(c[2][a]),
+                        );
+                        (lo - uv[a]).max(uv[a] - hi).max(0.0)
+                    };
+                    if best
+                        .as_ref()
+                        .is_some_and(|(bd, _)| gap(0).powi(2) + gap(1).powi(2) >= *bd)
+                    {
+                        continue;
+                    }
                     let (d2, w) = closest_in_triangle(uv, c);
                     if best.as_ref().is_none_or(|(bd, _)| d2 < *bd) {
                         best = Some((
@@ -310,12 +325,159 @@ pub struct Deviation {
     pub outside: usize,
 }
 
-/// Samples every cell edge of `original` (every edge along which one texture
-/// coordinate is constant: the diagonals that split cell quads are no grid lines) at
-/// `per_edge` points, and measures each sample's distance to the point of `simplified`
-/// with the same texture coordinates in the same component. `home[v]` is a triangle of
-/// `original` that simplified vertex `v` lies on (or comes from), which gives each
-/// simplified triangle its component.
+/// Cell edges (or triangles) from which [`GridLines`] work on the thread pool.
+const PARALLEL_EDGES: usize = 1 << 14;
+
+/// The original grid lines a [`deviation`] samples: every cell edge of a surface
+/// (every edge along which one texture coordinate is constant: the diagonals that
+/// split cell quads are no grid lines) once, with the component it lies in. Built
+/// once, it measures any number of simplifications of the same surface (as
+/// [`crate::decimate_chosen`] does with two).
+pub struct GridLines<'m> {
+    original: &'m SurfaceMesh,
+    /// Component of each original triangle.
+    labels: Vec<u32>,
+    /// Ends of each cell edge, and its component.
+    edges: Vec<[u32; 3]>,
+    per_edge: usize,
+}
+
+impl<'m> GridLines<'m> {
+    /// The cell edges of `original`, to be sampled at `per_edge` points each (at least
+    /// one: the edge's first end).
+    pub fn of(original: &'m SurfaceMesh, per_edge: usize) -> Self {
+        let labels = components(original);
+        let vt = VertexTriangles::new(original.vertex_count(), &original.triangles);
+        let cell_edges = |(t, tri): (usize, &[u32; 3])| -> [Option<[u32; 3]>; 3] {
+            std::array::from_fn(|k| {
+                let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                let (ta, tb) = (
+                    original.texcoords[a as usize],
+                    original.texcoords[b as usize],
+                );
+                // Each cell edge once (from the triangle where it runs a -> b with
+                // a < b, or from its only triangle on a boundary either way).
+                let on_line = ta[0] == tb[0] || ta[1] == tb[1];
+                let boundary = || {
+                    !vt.of(a)
+                        .iter()
+                        .any(|&s| s as usize != t && original.triangles[s as usize].contains(&b))
+                };
+                (on_line && (a < b || boundary())).then_some([a, b, labels[t]])
+            })
+        };
+        let edges = if original.triangle_count() < PARALLEL_EDGES {
+            original
+                .triangles
+                .iter()
+                .enumerate()
+                .flat_map(|e| cell_edges(e).into_iter().flatten())
+                .collect()
+        } else {
+            original
+                .triangles
+                .par_iter()
+                .enumerate()
+                .flat_map_iter(|e| cell_edges(e).into_iter().flatten())
+                .collect()
+        };
+        GridLines {
+            original,
+            labels,
+            edges,
+            per_edge: per_edge.max(1),
+        }
+    }
+
+    /// Measures each sample's distance to the point of `simplified` with the same
+    /// texture coordinates in the same component. `home[v]` is a triangle of the
+    /// original that simplified vertex `v` lies on (or comes from), which gives each
+    /// simplified triangle its component.
+    pub fn deviation(&self, simplified: &SurfaceMesh, home: &[u32], z_scale: f64) -> Deviation {
+        let (original, labels) = (self.original, &self.labels);
+        let simplified_labels: Vec<u32> = simplified
+            .triangles
+            .iter()
+            .map(|t| {
+                t.iter()
+                    .map(|&v| home.get(v as usize).copied().unwrap_or(NONE))
+                    .find(|&h| h != NONE && (h as usize) < labels.len())
+                    .map_or(NONE, |h| labels[h as usize])
+            })
+            .collect();
+        let index = UvIndex::new(simplified, simplified_labels);
+        let per_edge = self.per_edge;
+        // Squared distances summed, largest distance, samples, samples outside.
+        type Sums = (f64, f64, usize, usize);
+        let merge = |x: Sums, y: Sums| (x.0 + y.0, x.1.max(y.1), x.2 + y.2, x.3 + y.3);
+        let measure = |found: &mut Vec<SurfacePoint>, &[a, b, label]: &[u32; 3]| {
+            let mut acc: Sums = (0.0, 0.0, 0, 0);
+            let (ta, tb) = (
+                original.texcoords[a as usize],
+                original.texcoords[b as usize],
+            );
+            let (pa, pb) = (
+                original.positions[a as usize],
+                original.positions[b as usize],
+            );
+            for i in 0..per_edge {
+                let s = i as f64 / per_edge as f64;
+                let lerp = |x: f32, y: f32| f64::from(x) + s * (f64::from(y) - f64::from(x));
+                let uv = [lerp(ta[0], tb[0]), lerp(ta[1], tb[1])];
+                let p = [lerp(pa[0], pb[0]), lerp(pa[1], pb[1]), lerp(pa[2], pb[2])];
+                index.find(uv, label, found);
+                let mut inside = true;
+                if found.is_empty()
+                    && let Some(n) = index.nearest(uv, label, 2)
+                {
+                    found.push(n);
+                    inside = false;
+                }
+                let d = found
+                    .iter()
+                    .map(|f| {
+                        let q = index.position(f);
+                        let dz = (q[2] - p[2]) * z_scale;
+                        ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + dz * dz).sqrt()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                if d.is_finite() {
+                    acc.0 += d * d;
+                    acc.1 = acc.1.max(d);
+                    acc.2 += 1;
+                    acc.3 += usize::from(!inside);
+                }
+            }
+            acc
+        };
+        // Small surfaces (a layer measured for `decimate_chosen`) are measured on the
+        // calling thread: handing them to the pool cost more than the work.
+        let (sum, max, samples, outside) = if self.edges.len() < PARALLEL_EDGES {
+            let mut found = Vec::new();
+            self.edges.iter().fold((0.0, 0.0, 0, 0), |acc, e| {
+                merge(acc, measure(&mut found, e))
+            })
+        } else {
+            self.edges
+                .par_iter()
+                .map_init(Vec::new, measure)
+                .reduce(|| (0.0, 0.0, 0, 0), merge)
+        };
+        Deviation {
+            samples,
+            max,
+            rms: if samples > 0 {
+                (sum / samples as f64).sqrt()
+            } else {
+                0.0
+            },
+            outside,
+        }
+    }
+}
+
+/// Samples every cell edge of `original` at `per_edge` points and measures each
+/// sample's distance to where `simplified` draws it ([`GridLines::deviation`]).
 pub fn deviation(
     original: &SurfaceMesh,
     simplified: &SurfaceMesh,
@@ -323,86 +485,7 @@ pub fn deviation(
     per_edge: usize,
     z_scale: f64,
 ) -> Deviation {
-    let labels = components(original);
-    let simplified_labels: Vec<u32> = simplified
-        .triangles
-        .iter()
-        .map(|t| {
-            t.iter()
-                .map(|&v| home.get(v as usize).copied().unwrap_or(NONE))
-                .find(|&h| h != NONE && (h as usize) < labels.len())
-                .map_or(NONE, |h| labels[h as usize])
-        })
-        .collect();
-    let index = UvIndex::new(simplified, simplified_labels);
-    let vt = VertexTriangles::new(original.vertex_count(), &original.triangles);
-    let per_edge = per_edge.max(1);
-    let (sum, max, samples, outside) = original
-        .triangles
-        .par_iter()
-        .enumerate()
-        .map_init(Vec::new, |found, (t, tri)| {
-            let mut acc = (0f64, 0f64, 0usize, 0usize);
-            for k in 0..3 {
-                let (a, b) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-                let (ta, tb) = (original.texcoords[a], original.texcoords[b]);
-                // Each cell edge once (from the triangle where it runs a -> b with
-                // a < b, or from its only triangle on a boundary either way).
-                let on_line = ta[0] == tb[0] || ta[1] == tb[1];
-                let boundary = || {
-                    !vt.of(a as u32).iter().any(|&s| {
-                        s as usize != t && original.triangles[s as usize].contains(&(b as u32))
-                    })
-                };
-                if !on_line || (a > b && !boundary()) {
-                    continue;
-                }
-                for i in 0..per_edge {
-                    let s = i as f64 / per_edge as f64;
-                    let lerp = |x: f32, y: f32| f64::from(x) + s * (f64::from(y) - f64::from(x));
-                    let uv = [lerp(ta[0], tb[0]), lerp(ta[1], tb[1])];
-                    let (pa, pb) = (original.positions[a], original.positions[b]);
-                    let p = [lerp(pa[0], pb[0]), lerp(pa[1], pb[1]), lerp(pa[2], pb[2])];
-                    index.find(uv, labels[t], found);
-                    let mut inside = true;
-                    if found.is_empty()
-                        && let Some(n) = index.nearest(uv, labels[t], 2)
-                    {
-                        found.push(n);
-                        inside = false;
-                    }
-                    let d = found
-                        .iter()
-                        .map(|f| {
-                            let q = index.position(f);
-                            let dz = (q[2] - p[2]) * z_scale;
-                            ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + dz * dz).sqrt()
-                        })
-                        .fold(f64::INFINITY, f64::min);
-                    if d.is_finite() {
-                        acc.0 += d * d;
-                        acc.1 = acc.1.max(d);
-                        acc.2 += 1;
-                        acc.3 += usize::from(!inside);
-                    }
-                }
-            }
-            acc
-        })
-        .reduce(
-            || (0.0, 0.0, 0, 0),
-            |x, y| (x.0 + y.0, x.1.max(y.1), x.2 + y.2, x.3 + y.3),
-        );
-    Deviation {
-        samples,
-        max,
-        rms: if samples > 0 {
-            (sum / samples as f64).sqrt()
-        } else {
-            0.0
-        },
-        outside,
-    }
+    GridLines::of(original, per_edge).deviation(simplified, home, z_scale)
 }
 
 /// What keeping a surface's outline costs: its corners and the fewest triangles that
@@ -495,6 +578,28 @@ mod tests {
             "{d:?}"
         );
         assert_eq!(d.outside, 0);
+    }
+
+    #[test]
+    fn large_surfaces_are_measured_on_the_pool_alike() {
+        // 130 x 130 cells: 34 060 cell edges, over the sequential limit.
+        let mesh = SurfaceMesh::structured(130, 130, |i, j| {
+            [i as f32 * 10.0, j as f32 * 10.0, (i * j) as f32 * 0.01]
+        });
+        let home = crate::Reference::new(&mesh)
+            .unwrap()
+            .vertex_triangle
+            .clone();
+        let lines = GridLines::of(&mesh, 2);
+        assert!(lines.edges.len() >= PARALLEL_EDGES);
+        let mut lifted = mesh.clone();
+        lifted.positions.iter_mut().for_each(|p| p[2] += 2.0);
+        let d = lines.deviation(&lifted, &home, 5.0);
+        assert_eq!(d.samples, 2 * 2 * 130 * 131);
+        assert!(
+            (d.max - 10.0).abs() < 1e-4 && (d.rms - 10.0).abs() < 1e-4,
+            "{d:?}"
+        );
     }
 
     #[test]
