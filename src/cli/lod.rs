@@ -293,7 +293,8 @@ pub fn decimate_scene(
                 .compared
                 .map_or(String::new(), |(ours, theirs)| format!(
                     "; RMS distance of the grid lines {ours:.3} with strata's, {theirs:.3} with \
-                 meshopt_simplify's (a result that lost whole pieces never wins)"
+                 meshopt_simplify's (lines a result lost counted between its RMS and largest \
+                 distance)"
                 ))
         );
     }

@@ -323,6 +323,9 @@ pub struct Deviation {
     /// (outside its simplified boundary); their distance to the nearest point it does
     /// draw is included in `max` and `rms`.
     pub outside: usize,
+    /// Samples with no point of their piece of surface near enough to measure (the
+    /// piece kept no triangle, or shrank far from them); left out of `samples`.
+    pub missed: usize,
 }
 
 /// Cell edges (or triangles) from which [`GridLines`] work on the thread pool.
@@ -407,11 +410,11 @@ impl<'m> GridLines<'m> {
             .collect();
         let index = UvIndex::new(simplified, simplified_labels);
         let per_edge = self.per_edge;
-        // Squared distances summed, largest distance, samples, samples outside.
-        type Sums = (f64, f64, usize, usize);
-        let merge = |x: Sums, y: Sums| (x.0 + y.0, x.1.max(y.1), x.2 + y.2, x.3 + y.3);
+        // Squared distances summed, largest distance, samples, samples outside, missed.
+        type Sums = (f64, f64, usize, usize, usize);
+        let merge = |x: Sums, y: Sums| (x.0 + y.0, x.1.max(y.1), x.2 + y.2, x.3 + y.3, x.4 + y.4);
         let measure = |found: &mut Vec<SurfacePoint>, &[a, b, label]: &[u32; 3]| {
-            let mut acc: Sums = (0.0, 0.0, 0, 0);
+            let mut acc: Sums = (0.0, 0.0, 0, 0, 0);
             let (ta, tb) = (
                 original.texcoords[a as usize],
                 original.texcoords[b as usize],
@@ -446,22 +449,24 @@ impl<'m> GridLines<'m> {
                     acc.1 = acc.1.max(d);
                     acc.2 += 1;
                     acc.3 += usize::from(!inside);
+                } else {
+                    acc.4 += 1;
                 }
             }
             acc
         };
         // Small surfaces (a layer measured for `decimate_chosen`) are measured on the
         // calling thread: handing them to the pool cost more than the work.
-        let (sum, max, samples, outside) = if self.edges.len() < PARALLEL_EDGES {
+        let (sum, max, samples, outside, missed) = if self.edges.len() < PARALLEL_EDGES {
             let mut found = Vec::new();
-            self.edges.iter().fold((0.0, 0.0, 0, 0), |acc, e| {
+            self.edges.iter().fold((0.0, 0.0, 0, 0, 0), |acc, e| {
                 merge(acc, measure(&mut found, e))
             })
         } else {
             self.edges
                 .par_iter()
                 .map_init(Vec::new, measure)
-                .reduce(|| (0.0, 0.0, 0, 0), merge)
+                .reduce(|| (0.0, 0.0, 0, 0, 0), merge)
         };
         Deviation {
             samples,
@@ -472,6 +477,7 @@ impl<'m> GridLines<'m> {
                 0.0
             },
             outside,
+            missed,
         }
     }
 }
