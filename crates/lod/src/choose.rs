@@ -77,18 +77,15 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
     let measure =
         |d: &Decimated| score(&lines.deviation(&d.mesh, &d.home, f64::from(options.z_scale)));
     let compared = (measure(&ours), measure(&theirs));
-    Ok(if compared.1 < compared.0 {
-        Chosen {
-            decimated: theirs,
-            maker: Maker::Meshopt,
-            compared: Some(compared),
-        }
+    let (decimated, maker) = if compared.1 < compared.0 {
+        (theirs, Maker::Meshopt)
     } else {
-        Chosen {
-            decimated: ours,
-            maker: Maker::Strata,
-            compared: Some(compared),
-        }
+        (ours, Maker::Strata)
+    };
+    Ok(Chosen {
+        decimated,
+        maker,
+        compared: Some(compared),
     })
 }
 
@@ -105,8 +102,8 @@ pub fn score(d: &Deviation) -> f64 {
     if d.samples == 0 {
         return f64::INFINITY;
     }
-    let miss = (d.rms * d.max).sqrt();
-    let squares = d.rms * d.rms * d.samples as f64 + miss * miss * d.missed as f64;
+    // A missed sample's square: (sqrt(rms * max))^2.
+    let squares = d.rms * (d.rms * d.samples as f64 + d.max * d.missed as f64);
     (squares / (d.samples + d.missed) as f64).sqrt()
 }
 
