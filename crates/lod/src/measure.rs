@@ -229,15 +229,7 @@ impl<'m> UvIndex<'m> {
 
     /// Position at a point of the indexed mesh.
     pub fn position(&self, p: &SurfacePoint) -> [f64; 3] {
-        let tri = self.mesh.triangles[p.triangle as usize];
-        let mut out = [0f64; 3];
-        for (&v, &w) in tri.iter().zip(&p.barycentric) {
-            let x = self.mesh.positions[v as usize];
-            for a in 0..3 {
-                out[a] += w * f64::from(x[a]);
-            }
-        }
-        out
+        point_position(self.mesh, p)
     }
 }
 
@@ -392,12 +384,11 @@ impl<'m> GridLines<'m> {
         }
     }
 
-    /// Measures each sample's distance to the point of `simplified` with the same
-    /// texture coordinates in the same component. `home[v]` is a triangle of the
-    /// original that simplified vertex `v` lies on (or comes from), which gives each
-    /// simplified triangle its component.
-    pub fn deviation(&self, simplified: &SurfaceMesh, home: &[u32], z_scale: f64) -> Deviation {
-        let (original, labels) = (self.original, &self.labels);
+    /// `simplified` indexed by texture coordinates, each triangle labelled with the
+    /// component of the original it lies in: `home[v]` is a triangle of the original
+    /// that simplified vertex `v` lies on (or comes from).
+    fn index<'s>(&self, simplified: &'s SurfaceMesh, home: &[u32]) -> UvIndex<'s> {
+        let labels = &self.labels;
         let simplified_labels: Vec<u32> = simplified
             .triangles
             .iter()
@@ -408,78 +399,231 @@ impl<'m> GridLines<'m> {
                     .map_or(NONE, |h| labels[h as usize])
             })
             .collect();
-        let index = UvIndex::new(simplified, simplified_labels);
+        UvIndex::new(simplified, simplified_labels)
+    }
+
+    /// The samples of cell edge `[a, b, label]`: texture coordinates and position on
+    /// the original, from its first end on.
+    fn samples(&self, &[a, b, _]: &[u32; 3]) -> impl Iterator<Item = ([f64; 2], [f64; 3])> {
+        let original = self.original;
+        let (ta, tb) = (
+            original.texcoords[a as usize],
+            original.texcoords[b as usize],
+        );
+        let (pa, pb) = (
+            original.positions[a as usize],
+            original.positions[b as usize],
+        );
         let per_edge = self.per_edge;
-        // Squared distances summed, largest distance, samples, samples outside, missed.
-        type Sums = (f64, f64, usize, usize, usize);
-        let merge = |x: Sums, y: Sums| (x.0 + y.0, x.1.max(y.1), x.2 + y.2, x.3 + y.3, x.4 + y.4);
-        let measure = |found: &mut Vec<SurfacePoint>, &[a, b, label]: &[u32; 3]| {
-            let mut acc: Sums = (0.0, 0.0, 0, 0, 0);
-            let (ta, tb) = (
-                original.texcoords[a as usize],
-                original.texcoords[b as usize],
-            );
-            let (pa, pb) = (
-                original.positions[a as usize],
-                original.positions[b as usize],
-            );
-            for i in 0..per_edge {
-                let s = i as f64 / per_edge as f64;
-                let lerp = |x: f32, y: f32| f64::from(x) + s * (f64::from(y) - f64::from(x));
-                let uv = [lerp(ta[0], tb[0]), lerp(ta[1], tb[1])];
-                let p = [lerp(pa[0], pb[0]), lerp(pa[1], pb[1]), lerp(pa[2], pb[2])];
-                index.find(uv, label, found);
-                let mut inside = true;
-                if found.is_empty()
-                    && let Some(n) = index.nearest(uv, label, 2)
-                {
-                    found.push(n);
-                    inside = false;
-                }
+        (0..per_edge).map(move |i| {
+            let s = i as f64 / per_edge as f64;
+            let lerp = |x: f32, y: f32| f64::from(x) + s * (f64::from(y) - f64::from(x));
+            (
+                [lerp(ta[0], tb[0]), lerp(ta[1], tb[1])],
+                [lerp(pa[0], pb[0]), lerp(pa[1], pb[1]), lerp(pa[2], pb[2])],
+            )
+        })
+    }
+
+    /// Measures each sample's distance to the point of `simplified` with the same
+    /// texture coordinates in the same component (see [`GridLines::index`] for
+    /// `home`); where several points have them (the two sides of a fault), the
+    /// nearest.
+    pub fn deviation(&self, simplified: &SurfaceMesh, home: &[u32], z_scale: f64) -> Deviation {
+        let index = self.index(simplified, home);
+        let measure = |found: &mut Vec<SurfacePoint>, edge: &[u32; 3]| {
+            let mut sums = Sums::default();
+            for (uv, p) in self.samples(edge) {
+                let inside = locate(&index, uv, edge[2], found);
                 let d = found
                     .iter()
-                    .map(|f| {
-                        let q = index.position(f);
-                        let dz = (q[2] - p[2]) * z_scale;
-                        ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + dz * dz).sqrt()
-                    })
+                    .map(|f| distance(index.position(f), p, z_scale))
                     .fold(f64::INFINITY, f64::min);
-                if d.is_finite() {
-                    acc.0 += d * d;
-                    acc.1 = acc.1.max(d);
-                    acc.2 += 1;
-                    acc.3 += usize::from(!inside);
-                } else {
-                    acc.4 += 1;
-                }
+                sums.add(inside.map(|inside| (d, inside)));
             }
-            acc
+            sums
         };
-        // Small surfaces (a layer measured for `decimate_chosen`) are measured on the
+        // Small surfaces (a layer the bench measures at a small budget) are measured on the
         // calling thread: handing them to the pool cost more than the work.
-        let (sum, max, samples, outside, missed) = if self.edges.len() < PARALLEL_EDGES {
+        let sums = if self.edges.len() < PARALLEL_EDGES {
             let mut found = Vec::new();
-            self.edges.iter().fold((0.0, 0.0, 0, 0, 0), |acc, e| {
-                merge(acc, measure(&mut found, e))
-            })
+            self.edges
+                .iter()
+                .fold(Sums::default(), |acc, e| acc.merge(measure(&mut found, e)))
         } else {
             self.edges
                 .par_iter()
                 .map_init(Vec::new, measure)
-                .reduce(|| (0.0, 0.0, 0, 0, 0), merge)
+                .reduce(Sums::default, Sums::merge)
         };
-        Deviation {
-            samples,
-            max,
-            rms: if samples > 0 {
-                (sum / samples as f64).sqrt()
-            } else {
-                0.0
-            },
-            outside,
+        sums.deviation()
+    }
+
+    /// Where `simplified` draws each sample (see [`GridLines::index`] for `home`):
+    /// the nearest point of the same texture coordinates, or of the nearest ones
+    /// outside its boundary; the points stay where they are in texture space when
+    /// the simplified surface's positions change ([`crate::fit`]).
+    pub fn locate(&self, simplified: &SurfaceMesh, home: &[u32]) -> Located {
+        let index = self.index(simplified, home);
+        let place = |found: &mut Vec<SurfacePoint>, edge: &[u32; 3]| {
+            self.samples(edge)
+                .map(|(uv, target)| {
+                    let inside = locate(&index, uv, edge[2], found)?;
+                    let nearest = found.iter().min_by(|f, g| {
+                        let d = |p: &SurfacePoint| distance(index.position(p), target, 1.0);
+                        d(f).total_cmp(&d(g))
+                    })?;
+                    Some(LocatedSample {
+                        point: *nearest,
+                        target,
+                        inside,
+                    })
+                })
+                .collect::<Vec<_>>()
+        };
+        let all: Vec<Option<LocatedSample>> = if self.edges.len() < PARALLEL_EDGES {
+            let mut found = Vec::new();
+            self.edges
+                .iter()
+                .flat_map(|e| place(&mut found, e))
+                .collect()
+        } else {
+            self.edges
+                .par_iter()
+                .map_init(Vec::new, place)
+                .flatten_iter()
+                .collect()
+        };
+        let missed = all.iter().filter(|s| s.is_none()).count();
+        Located {
+            samples: all.into_iter().flatten().collect(),
             missed,
         }
     }
+}
+
+/// The simplified surface's points of `uv` in component `label`, into `found`:
+/// `Some(true)` where it draws `uv`, `Some(false)` with its point nearest in texture
+/// space where `uv` is just outside its boundary, `None` where it has no point near.
+fn locate(
+    index: &UvIndex,
+    uv: [f64; 2],
+    label: u32,
+    found: &mut Vec<SurfacePoint>,
+) -> Option<bool> {
+    index.find(uv, label, found);
+    if !found.is_empty() {
+        return Some(true);
+    }
+    let nearest = index.nearest(uv, label, 2)?;
+    found.push(nearest);
+    Some(false)
+}
+
+/// Distance between two points, their z difference scaled by `z_scale`.
+fn distance(p: [f64; 3], q: [f64; 3], z_scale: f64) -> f64 {
+    let dz = (q[2] - p[2]) * z_scale;
+    ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2) + dz * dz).sqrt()
+}
+
+/// What a [`Deviation`] sums over samples.
+#[derive(Clone, Copy, Default)]
+struct Sums {
+    squares: f64,
+    max: f64,
+    samples: usize,
+    outside: usize,
+    missed: usize,
+}
+
+impl Sums {
+    /// A sample's distance and whether it is inside, or `None` when missed.
+    fn add(&mut self, sample: Option<(f64, bool)>) {
+        match sample {
+            Some((d, inside)) => {
+                self.squares += d * d;
+                self.max = self.max.max(d);
+                self.samples += 1;
+                self.outside += usize::from(!inside);
+            }
+            None => self.missed += 1,
+        }
+    }
+
+    fn merge(self, other: Sums) -> Sums {
+        Sums {
+            squares: self.squares + other.squares,
+            max: self.max.max(other.max),
+            samples: self.samples + other.samples,
+            outside: self.outside + other.outside,
+            missed: self.missed + other.missed,
+        }
+    }
+
+    fn deviation(self) -> Deviation {
+        Deviation {
+            samples: self.samples,
+            max: self.max,
+            rms: if self.samples > 0 {
+                (self.squares / self.samples as f64).sqrt()
+            } else {
+                0.0
+            },
+            outside: self.outside,
+            missed: self.missed,
+        }
+    }
+}
+
+/// A sample of the original grid lines and the point of a simplified surface that
+/// draws it.
+#[derive(Clone, Copy, Debug)]
+pub struct LocatedSample {
+    /// On the simplified surface.
+    pub point: SurfacePoint,
+    /// The sample's position on the original.
+    pub target: [f64; 3],
+    /// Whether `point` draws the sample's texture coordinates (else it is the
+    /// nearest point that the simplified surface draws).
+    pub inside: bool,
+}
+
+/// The samples of [`GridLines`] located on one simplified surface
+/// ([`GridLines::locate`]).
+#[derive(Clone, Debug, Default)]
+pub struct Located {
+    pub samples: Vec<LocatedSample>,
+    /// Samples with no point of their piece near enough ([`Deviation::missed`]).
+    pub missed: usize,
+}
+
+impl Located {
+    /// The [`Deviation`] of the samples on `simplified` (the surface they were
+    /// located on, with its positions as they are now).
+    pub fn deviation(&self, simplified: &SurfaceMesh, z_scale: f64) -> Deviation {
+        let mut sums = Sums {
+            missed: self.missed,
+            ..Sums::default()
+        };
+        for s in &self.samples {
+            let at = point_position(simplified, &s.point);
+            sums.add(Some((distance(at, s.target, z_scale), s.inside)));
+        }
+        sums.deviation()
+    }
+}
+
+/// Position of a point of `mesh`.
+pub(crate) fn point_position(mesh: &SurfaceMesh, p: &SurfacePoint) -> [f64; 3] {
+    let tri = mesh.triangles[p.triangle as usize];
+    let mut out = [0f64; 3];
+    for (&v, &w) in tri.iter().zip(&p.barycentric) {
+        let x = mesh.positions[v as usize];
+        for a in 0..3 {
+            out[a] += w * f64::from(x[a]);
+        }
+    }
+    out
 }
 
 /// Samples every cell edge of `original` at `per_edge` points and measures each
@@ -606,6 +750,40 @@ mod tests {
             (d.max - 10.0).abs() < 1e-4 && (d.rms - 10.0).abs() < 1e-4,
             "{d:?}"
         );
+    }
+
+    #[test]
+    fn located_samples_measure_as_the_grid_lines_do() {
+        for cells in [20, 130] {
+            let mesh = SurfaceMesh::structured(cells, cells, |i, j| {
+                let (x, y) = (i as f32 * 10.0, j as f32 * 10.0);
+                [x, y, 3.0 * (x / 40.0).sin() * (y / 60.0).cos()]
+            });
+            let lines = GridLines::of(&mesh, 2);
+            let options = Options {
+                target_triangles: 40,
+                z_scale: 5.0,
+                ..Options::default()
+            };
+            let mut simplified = decimate(&mesh, &options).unwrap();
+            // A triangle lost: its samples are drawn outside, at the nearest point.
+            simplified.mesh.triangles.remove(7);
+            let (m, home) = (&simplified.mesh, &simplified.home);
+            let streamed = lines.deviation(m, home, 5.0);
+            let located = lines.locate(m, home);
+            let measured = located.deviation(m, 5.0);
+            assert!(streamed.outside > 0, "{streamed:?}");
+            assert_eq!(
+                located.samples.len() + located.missed,
+                2 * 2 * cells * (cells + 1)
+            );
+            assert_eq!(
+                (measured.samples, measured.outside, measured.missed),
+                (streamed.samples, streamed.outside, streamed.missed)
+            );
+            assert!((measured.rms - streamed.rms).abs() <= 1e-9 * streamed.rms);
+            assert!((measured.max - streamed.max).abs() <= 1e-9 * streamed.max);
+        }
     }
 
     #[test]
