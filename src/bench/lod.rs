@@ -25,7 +25,7 @@
 //! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, or, on a
 //! layer surface whose budget is below its outline bound, meshopt_simplify's result
 //! where that draws the grid lines nearer (lower RMS distance; the rows count those
-//! layers). Ours alone runs with both placements of new vertices: `strata_alone` (on
+//! layers), either fitted to the grid lines there (`strata_lod::fit`). Ours alone runs with both placements of new vertices: `strata_alone` (on
 //! the original surface, the default) and `strata_optimal` (at the quadric optimum off
 //! it, with the texture coordinates of the nearest original point), and as
 //! `strata_cover`: outlines that

@@ -265,7 +265,7 @@ pub fn decimate_scene(
     let chosen = decimate_chosen(mesh, &options).context("decimating the scene")?;
     let mut out = chosen.decimated;
     eprintln!(
-        "decimated by {} {} -> {} triangles ({:.1} %), {} new vertices, error {:.3} in {:.2} s",
+        "decimated by {} {} -> {} triangles ({:.1} %), {} new or moved vertices, error {:.3} in {:.2} s",
         match chosen.maker {
             Maker::Strata => "strata",
             Maker::Meshopt => "meshopt_simplify",
@@ -293,8 +293,8 @@ pub fn decimate_scene(
                 .compared
                 .map_or(String::new(), |(ours, theirs)| format!(
                     "; RMS distance of the grid lines {ours:.3} with strata's, {theirs:.3} with \
-                 meshopt_simplify's (lines a result lost counted between its RMS and largest \
-                 distance)"
+                 meshopt_simplify's, each fitted to them (lines a result lost counted between \
+                 its RMS and largest distance)"
                 ))
         );
     }

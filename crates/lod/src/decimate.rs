@@ -199,7 +199,8 @@ pub struct Decimated {
     /// The simplified mesh (no cell faces: its triangles are no longer cell halves).
     pub mesh: SurfaceMesh,
     /// Per vertex: the input vertex it is, unchanged, or [`NEW`] for a vertex a collapse
-    /// placed on the reference surface.
+    /// placed on the reference surface or that moved off it ([`Options::lift`],
+    /// [`crate::fit::fit`]).
     pub source: Vec<u32>,
     /// Per vertex: a triangle of the reference surface the vertex lies on.
     pub home: Vec<u32>,

@@ -7,6 +7,9 @@
 //!   it was on the simplified surface (Celes & Abraham 2011, section 5, Fig. 12).
 //! * [`decimate_chosen`]: ours, or meshoptimizer's `simplify` where a budget too small
 //!   to keep the outlines makes it draw the grid lines nearer to the original.
+//! * [`fit`]: moves a simplified surface's vertices, texture coordinates fixed, to
+//!   where it draws the original grid lines nearest to where the original does
+//!   (what [`decimate_chosen`] does to both results it compares).
 //! * [`CellCover`]: the cells each piece of a surface covers, for decimation that lets
 //!   outlines grow only outward and a renderer that masks fragments by their cell.
 //! * [`baseline`]: meshoptimizer's simplifiers on the same meshes, to compare with,
@@ -23,6 +26,7 @@ mod cover;
 mod decimate;
 mod error;
 mod file;
+pub mod fit;
 mod hierarchy;
 pub mod measure;
 mod quadric;
