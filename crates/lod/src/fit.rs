@@ -166,7 +166,7 @@ mod tests {
 
     use super::*;
     use crate::decimate::{Options, decimate};
-    use crate::measure::{GridLines, LocatedSample};
+    use crate::measure::{GridLines, LocatedSample, curved};
     use crate::reference::SurfacePoint;
 
     /// Normals of every triangle, z scaled by 5 as the fits below view them.
@@ -241,10 +241,7 @@ mod tests {
 
     #[test]
     fn a_curved_surface_is_drawn_nearer_and_nothing_turns_over() {
-        let curved = SurfaceMesh::structured(30, 30, |i, j| {
-            let (x, y) = (i as f32 * 10.0, j as f32 * 10.0);
-            [x, y, 4.0 * (x / 50.0).sin() * (y / 70.0).cos()]
-        });
+        let curved = curved(30);
         let lines = GridLines::of(&curved, 2);
         let options = Options {
             target_triangles: 60,

@@ -702,6 +702,16 @@ pub fn outline_bound(mesh: &SurfaceMesh) -> OutlineBound {
     }
 }
 
+/// A square surface of `cells` x `cells` cells of 10, gently curved (by 3 up and
+/// down over 40 to 60), for tests of what decimation leaves.
+#[cfg(test)]
+pub(crate) fn curved(cells: usize) -> SurfaceMesh {
+    SurfaceMesh::structured(cells, cells, |i, j| {
+        let (x, y) = (i as f32 * 10.0, j as f32 * 10.0);
+        [x, y, 3.0 * (x / 40.0).sin() * (y / 60.0).cos()]
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -755,10 +765,7 @@ mod tests {
     #[test]
     fn located_samples_measure_as_the_grid_lines_do() {
         for cells in [20, 130] {
-            let mesh = SurfaceMesh::structured(cells, cells, |i, j| {
-                let (x, y) = (i as f32 * 10.0, j as f32 * 10.0);
-                [x, y, 3.0 * (x / 40.0).sin() * (y / 60.0).cos()]
-            });
+            let mesh = curved(cells);
             let lines = GridLines::of(&mesh, 2);
             let options = Options {
                 target_triangles: 40,
