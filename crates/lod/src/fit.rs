@@ -46,9 +46,11 @@ const HOLD: f64 = 1e-2;
 pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f64) -> usize {
     let mesh = &decimated.mesh;
     let n = mesh.vertex_count();
-    if n == 0 || located.samples.is_empty() {
+    if n == 0 || located.samples.is_empty() || !(z_scale.is_finite() && z_scale > 0.0) {
         return 0;
     }
+    // A reach that is no number moves nothing.
+    let reach = reach.max(0.0);
     // The normal equations, gathered by triangle: for triangle t, the sums over its
     // samples of `w_j w_k` and of `w_k x`, so that a sweep costs the triangles, not
     // the samples. Only samples the surface draws count: one outside it stands for a
@@ -57,7 +59,10 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
     let display = |p: [f64; 3]| [p[0], p[1], p[2] * z_scale];
     let mut normal_equations = vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); mesh.triangle_count()];
     for s in located.samples.iter().filter(|s| s.inside) {
-        let (weights, sums) = &mut normal_equations[s.point.triangle as usize];
+        // Samples located on another surface (no such triangle) are left out.
+        let Some((weights, sums)) = normal_equations.get_mut(s.point.triangle as usize) else {
+            continue;
+        };
         let (w, x) = (s.point.barycentric, display(s.target));
         for j in 0..3 {
             for k in 0..3 {
@@ -307,6 +312,13 @@ mod tests {
         // Beyond the square's right side: the left triangle would turn over.
         let mut beyond = fan.clone();
         assert_eq!(fit(&at_centre([1.5, 0.5, 0.0]), &mut beyond, 5.0, 10.0), 0);
+        // No view (z scale 0), no reach, or a sample of another surface: nothing moves.
+        let to = at_centre([0.7, 0.6, 0.1]);
+        assert_eq!(fit(&to, &mut beyond, 0.0, 10.0), 0);
+        assert_eq!(fit(&to, &mut beyond, 5.0, f64::NAN), 0);
+        let mut elsewhere = to.clone();
+        elsewhere.samples[0].point.triangle = 4;
+        assert_eq!(fit(&elsewhere, &mut beyond, 5.0, 10.0), 0);
         assert_eq!(beyond.mesh.positions, fan.mesh.positions);
         assert_eq!(beyond.source, fan.source);
         // Inside it: the centre goes to the sample, held back by `HOLD` (of the
