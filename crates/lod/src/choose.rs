@@ -78,8 +78,8 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
     )?;
     let lines = GridLines::of(mesh, SAMPLES_PER_EDGE);
     let z_scale = f64::from(options.z_scale);
-    // Both fitted to the grid lines (their outlines are cut either way), then scored
-    // on the same located samples.
+    // Each fitted to the grid lines (its outlines are cut either way), then scored on
+    // the samples located for its fit.
     let fitted = |mut d: Decimated| {
         let located = lines.locate(&d.mesh, &d.home);
         let reach = located.deviation(&d.mesh, z_scale).max;
