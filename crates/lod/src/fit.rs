@@ -19,7 +19,7 @@
 //! -> 0.974 / 0.988. A fit costs about a sixth of what locating its samples does.
 
 use crate::Decimated;
-use crate::decimate::NEW;
+use crate::decimate::{NEW, cross3, dot3, sub3p};
 use crate::measure::Located;
 use crate::reference::VertexTriangles;
 
@@ -81,15 +81,7 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
         .map(|p| display(p.map(f64::from)))
         .collect();
     let start = x.clone();
-    let normal = |x: &[[f64; 3]], t: usize| {
-        let [a, b, c] = mesh.triangles[t].map(|v| x[v as usize]);
-        let (u, w) = (sub(b, a), sub(c, a));
-        [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ]
-    };
+    let normal = |x: &[[f64; 3]], t: usize| triangle_normal(x, mesh.triangles[t]);
     let facing: Vec<[f64; 3]> = (0..mesh.triangle_count()).map(|t| normal(&x, t)).collect();
     let extent = mesh.bounds().map_or(0.0, |(lo, hi)| {
         let d = display(std::array::from_fn(|a| f64::from(hi[a] - lo[a])));
@@ -123,8 +115,8 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
                 continue;
             }
             let mut to = num.map(|c| c / den);
-            let off = sub(to, start[v]);
-            let len = dot(off, off).sqrt();
+            let off = sub3p(to, start[v]);
+            let len = dot3(off, off).sqrt();
             if len > reach {
                 to = std::array::from_fn(|a| start[v][a] + off[a] * reach / len);
             }
@@ -133,12 +125,12 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
             let folds = star
                 .of(v as u32)
                 .iter()
-                .any(|&t| dot(normal(&x, t as usize), facing[t as usize]) <= 0.0);
+                .any(|&t| dot3(normal(&x, t as usize), facing[t as usize]) <= 0.0);
             if folds {
                 x[v] = before;
             } else {
-                let step = sub(to, before);
-                largest_move = largest_move.max(dot(step, step).sqrt());
+                let step = sub3p(to, before);
+                largest_move = largest_move.max(dot3(step, step).sqrt());
             }
         }
         if largest_move <= SETTLED * extent {
@@ -157,12 +149,10 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
     moved
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+/// Normal (not normalised) of triangle `t` of points `x`.
+fn triangle_normal(x: &[[f64; 3]], t: [u32; 3]) -> [f64; 3] {
+    let [a, b, c] = t.map(|v| x[v as usize]);
+    cross3(sub3p(b, a), sub3p(c, a))
 }
 
 #[cfg(test)]
@@ -176,20 +166,14 @@ mod tests {
 
     /// Normals of every triangle, z scaled by 5 as the fits below view them.
     fn normals(mesh: &SurfaceMesh) -> Vec<[f64; 3]> {
+        let x: Vec<[f64; 3]> = mesh
+            .positions
+            .iter()
+            .map(|p| [p[0], p[1], p[2] * 5.0].map(f64::from))
+            .collect();
         mesh.triangles
             .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|v| {
-                    let p = mesh.positions[v as usize].map(f64::from);
-                    [p[0], p[1], p[2] * 5.0]
-                });
-                let (u, w) = (sub(b, a), sub(c, a));
-                [
-                    u[1] * w[2] - u[2] * w[1],
-                    u[2] * w[0] - u[0] * w[2],
-                    u[0] * w[1] - u[1] * w[0],
-                ]
-            })
+            .map(|&t| triangle_normal(&x, t))
             .collect()
     }
 
@@ -225,7 +209,7 @@ mod tests {
         assert_eq!(moved, held.mesh.vertex_count());
         for (p, q) in held.mesh.positions.iter().zip(&displaced.mesh.positions) {
             let d = [p[0] - q[0], p[1] - q[1], (p[2] - q[2]) * 5.0].map(f64::from);
-            assert!((dot(d, d).sqrt() - 1.0).abs() < 1e-4, "moved {d:?}");
+            assert!((dot3(d, d).sqrt() - 1.0).abs() < 1e-4, "moved {d:?}");
         }
         let held_rms = located.deviation(&held.mesh, 5.0).rms;
         assert!((held_rms - (off - 1.0)).abs() < 1e-3, "{held_rms}");
@@ -262,7 +246,7 @@ mod tests {
         assert!(moved > 0);
         assert!(after.rms < 0.8 * before.rms, "{before:?} -> {after:?}");
         for (n, m) in normals(&decimated.mesh).iter().zip(&facing) {
-            assert!(dot(*n, *m) > 0.0);
+            assert!(dot3(*n, *m) > 0.0);
         }
         // A vertex that did not move keeps what it was.
         for v in 0..kept.mesh.vertex_count() {
