@@ -24,12 +24,11 @@
 //!
 //! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, or, on a
 //! layer surface whose budget is below its outline bound, meshopt_simplify's result
-//! where that draws the grid lines nearer (lower RMS distance; the rows count those
-//! layers), either fitted to the grid lines there (`strata_lod::fit`). Ours alone runs with both placements of new vertices: `strata_alone` (on
-//! the original surface, the default) and `strata_optimal` (at the quadric optimum off
-//! it, with the texture coordinates of the nearest original point), and as
-//! `strata_cover`: outlines that
-//! only grow outward (`Options::cover`), drawn with the renderer's cell mask
+//! fitted to the grid lines (`strata_lod::fit`; the rows count those layers). Ours
+//! alone runs with both placements of new vertices: `strata_alone` (on the original
+//! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
+//! texture coordinates of the nearest original point), and as `strata_cover`: outlines
+//! that only grow outward (`Options::cover`), drawn with the renderer's cell mask
 //! (`Renderer::prepare_covered`), so that outline corners cost no triangles.
 //!
 //! Speed: input triangles per second for ours and each meshopt simplifier at 10 %,
@@ -147,8 +146,8 @@ pub struct Fidelity {
     /// Share of samples whose texture coordinate the decimated surface no longer
     /// draws (outside its simplified boundary).
     pub outside: f64,
-    /// Layer surfaces that meshoptimizer decimated (`strata` only: where it drew
-    /// the grid lines nearer, below the outline bound).
+    /// Layer surfaces that meshoptimizer decimated (`strata` only: below the
+    /// outline bound).
     pub meshopt_layers: usize,
     /// Worst view: F1 of line pixels within one pixel, strict F1, and RMS colour.
     pub f1: f64,
@@ -248,7 +247,7 @@ const MODELS: [Model; 5] = [
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
     /// What strata draws with ([`decimate_chosen`]): ours, or meshopt_simplify's
-    /// where a budget below the outline bound makes it draw the grid lines nearer.
+    /// fitted to the grid lines where the budget is below the outline bound.
     Strata,
     /// Ours alone.
     Ours(Placement),

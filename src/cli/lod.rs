@@ -290,11 +290,11 @@ pub fn decimate_scene(
             outline.min_triangles,
             100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
             chosen
-                .compared
-                .map_or(String::new(), |(ours, theirs)| format!(
-                    "; RMS distance of the grid lines {ours:.3} with strata's, {theirs:.3} with \
-                 meshopt_simplify's, each fitted to them (lines a result lost counted between \
-                 its RMS and largest distance)"
+                .fitted
+                .map_or(String::new(), |(before, after)| format!(
+                    "; there the result is fitted to the grid lines: their RMS distance \
+                     {before:.3} -> {after:.3} (lines it lost counted between its RMS and \
+                     largest distance)"
                 ))
         );
     }

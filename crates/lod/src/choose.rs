@@ -1,40 +1,41 @@
 //! The decimation strata draws with: ours, except where the budget is below what
-//! keeping the surface's outlines costs ([`outline_bound`]).
+//! keeping the surface's outlines costs ([`outline_bound`](crate::measure::outline_bound)).
 //!
 //! Ours is made to keep outlines, holes and fault traces where they are. Below that
 //! bound every simplifier must cut outline corners, and there meshoptimizer's
-//! `simplify` (position error only, every kept vertex an input vertex) often spends
-//! the few triangles better. Both then run, each is [`fit`] to the original grid
-//! lines (every vertex moved, texture coordinates fixed, to where the surface draws
-//! the lines nearest to where the original does), and the one that then draws them
-//! nearer (the RMS of [`GridLines::deviation`], the measure `strata bench lod`
-//! reports, as [`score`]d) is kept. Measured with the bench's frames (worse of its
-//! two views, line-pixel F1; ours alone -> chosen without the fit -> chosen and
-//! fitted, meshopt_simplify's best beside): simpleb8 at 10 % 0.181 -> 0.295 -> 0.430
-//! (0.295), Reek at 5 % 0.895 -> 0.922 -> 0.944 (0.922) and at 2 % 0.832 -> 0.847 ->
-//! 0.864 (0.847), emerald at 10 % 0.851 -> 0.869 -> 0.904 (0.836), at 5 % 0.729 ->
-//! 0.718 -> 0.816 (0.713) and at 2 % 0.646 -> 0.591 -> 0.667 (0.623). Reek at 10 % is
-//! above its bound and unchanged.
+//! `simplify` (position error only, every kept vertex an input vertex), [`fit`] to the
+//! original grid lines (every vertex moved, texture coordinates fixed, to where the
+//! surface draws the lines nearest to where the original does), spends the few
+//! triangles better. Running both there and keeping the one that drew the grid lines
+//! nearer (the RMS of [`GridLines::deviation`] as [`score`]d), meshoptimizer's won on
+//! every layer surface of the bench's models below its bound (at 50 to 2 %) but 2 of
+//! emerald's 57 and 2 of simpleb8's 14 (and 4 more of simpleb8's where its result was
+//! empty), and it cost emerald's layers at 10 % 32.5 ms instead of 11.4 ms (0.47
+//! instead of 1.33 M input triangles per second). Without the comparison, the bench's
+//! frames (worse of its two views, line-pixel F1) are the same to the third decimal
+//! but emerald's at 5 % (0.817 -> 0.813) and simpleb8's at 20 % (0.580 -> 0.601).
+
+use std::time::Instant;
 
 use strata_grid::SurfaceMesh;
 
 use crate::baseline::{Simplifier, simplify};
+use crate::decimate::decimate_prepared;
 use crate::fit::fit;
-use crate::measure::{Deviation, GridLines, outline_bound};
-use crate::{Decimated, Options, Result, decimate};
+use crate::measure::{Deviation, GridLines, outline_bound_of};
+use crate::reference::{NONE, Reference};
+use crate::{Decimated, Options, Result};
 
-/// Points sampled along each original cell edge to compare the two decimations: a
-/// grid node and the edge's midpoint. On emerald at 10 % (the bench's first view),
-/// 1, 2 and 4 samples chose decimations of F1 0.872, 0.871 and 0.871 and ran at 0.53,
-/// 0.45 and 0.35 M input triangles per CPU second, ours alone at 1.15 (2 samples run
-/// at 0.51 since both measures share one [`GridLines`], on the calling thread).
+/// Points sampled along each original cell edge to fit meshoptimizer's result: a grid
+/// node and the edge's midpoint. Emerald at 10 % with the fit, 1, 2 and 4 samples per
+/// edge gave line-pixel F1 within 0.002 of each other.
 const SAMPLES_PER_EDGE: usize = 2;
 
 /// Who made a [`Chosen`] decimation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Maker {
     Strata,
-    /// meshoptimizer's `simplify` ([`Simplifier::Simplify`]).
+    /// meshoptimizer's `simplify` ([`Simplifier::Simplify`]), fitted.
     Meshopt,
 }
 
@@ -45,71 +46,72 @@ pub struct Chosen {
     /// units.
     pub decimated: Decimated,
     pub maker: Maker,
-    /// The [`score`]s (RMS distance of the original grid lines, display length units,
-    /// z scaled) of ours and of meshoptimizer's, each fitted, when both ran.
-    pub compared: Option<(f64, f64)>,
+    /// Below the outline bound, the [`score`]s (RMS distance of the original grid
+    /// lines, display length units, z scaled) of the result before and after the
+    /// [`fit`].
+    pub fitted: Option<(f64, f64)>,
 }
 
-/// [`decimate`], or meshoptimizer's `simplify` where it draws the grid lines nearer
-/// to the original, either [`fit`] to them: only tried when the target is below the
-/// surface's [`outline_bound`], and not with [`Options::cover`] (outlines kept by the
-/// cell mask) or a finite [`Options::max_error`] (meshoptimizer's error is another
-/// measure, and the fit moves vertices past the collapses' errors).
+/// [`decimate`](crate::decimate), or, where the target is below the surface's
+/// [`outline_bound`](crate::measure::outline_bound), meshoptimizer's `simplify`
+/// [`fit`] to the original grid lines; ours (fitted too) where meshoptimizer's result
+/// draws none of them (it takes a target of no triangle literally); ours with
+/// [`Options::cover`] (outlines kept by the cell mask) and with a finite
+/// [`Options::max_error`] (meshoptimizer's error is another measure, and the fit
+/// moves vertices past it).
 pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> {
-    let ours = decimate(mesh, options)?;
-    let comparable = !options.cover && options.max_error.is_infinite();
-    // The outline vertices bound the corners from above, for free: most targets are
+    let start = Instant::now();
+    let (reference, vt) = Reference::with_vertex_triangles(mesh)?;
+    let target = options.target_triangles;
+    // The outline edges bound the corners from above, for free: most targets are
     // above them, and the exact bound is not needed.
-    if !comparable
-        || options.target_triangles >= ours.outline_vertices
-        || options.target_triangles >= outline_bound(mesh).min_triangles
-    {
+    let outline_edges = reference.adjacency.iter().flatten();
+    let below = !options.cover
+        && options.max_error.is_infinite()
+        && target < outline_edges.filter(|&&t| t == NONE).count()
+        && target < outline_bound_of(mesh, &vt, &reference.adjacency).min_triangles;
+    if below {
+        let lines = GridLines::of(mesh, SAMPLES_PER_EDGE);
+        let mut theirs = simplify(mesh, Simplifier::Simplify, target, options.z_scale)?;
+        if let Some(scores) = fitted(&lines, &mut theirs, options.z_scale) {
+            return Ok(Chosen {
+                decimated: theirs,
+                maker: Maker::Meshopt,
+                fitted: Some(scores),
+            });
+        }
+        let mut ours = decimate_prepared(&reference, vt, options, start)?;
+        let scores = fitted(&lines, &mut ours, options.z_scale);
         return Ok(Chosen {
             decimated: ours,
             maker: Maker::Strata,
-            compared: None,
+            fitted: scores,
         });
     }
-    let theirs = simplify(
-        mesh,
-        Simplifier::Simplify,
-        options.target_triangles,
-        options.z_scale,
-    )?;
-    let lines = GridLines::of(mesh, SAMPLES_PER_EDGE);
-    let z_scale = f64::from(options.z_scale);
-    // Each fitted to the grid lines (its outlines are cut either way), then scored on
-    // the samples located for its fit.
-    let fitted = |mut d: Decimated| {
-        let located = lines.locate(&d.mesh, &d.home);
-        let reach = located.deviation(&d.mesh, z_scale).max;
-        fit(&located, &mut d, z_scale, reach);
-        let scored = score(&located.deviation(&d.mesh, z_scale));
-        (d, scored)
-    };
-    let ((ours, ours_score), (theirs, theirs_score)) = (fitted(ours), fitted(theirs));
-    let compared = (ours_score, theirs_score);
-    let (decimated, maker) = if compared.1 < compared.0 {
-        (theirs, Maker::Meshopt)
-    } else {
-        (ours, Maker::Strata)
-    };
     Ok(Chosen {
-        decimated,
-        maker,
-        compared: Some(compared),
+        decimated: decimate_prepared(&reference, vt, options, start)?,
+        maker: Maker::Strata,
+        fitted: None,
     })
 }
 
-/// What [`decimate_chosen`] compares: the RMS distance of the original grid lines,
-/// with every sample the result misses (its piece lost, or shrunk far from it)
-/// counted at the geometric mean of the result's RMS and largest distance; a result
-/// that measures no sample at all (an empty one) scores infinite. Measured with the
-/// bench (worse view's F1, emerald / simpleb8 at 10 %): missed samples at the largest
-/// distance kept ours where meshopt's drops a sliver and draws the rest nearer,
-/// 0.867 / 0.269; refusing any result that misses a sample, 0.859 / 0.269; this,
-/// 0.869 / 0.295, as left out altogether (which lets a result that drops whole
-/// pieces win).
+/// Fits `decimated` to `lines` and returns its [`score`]s before and after; nothing
+/// when it draws none of them.
+fn fitted(lines: &GridLines, decimated: &mut Decimated, z_scale: f32) -> Option<(f64, f64)> {
+    let located = lines.locate(&decimated.mesh, &decimated.home);
+    let z_scale = f64::from(z_scale);
+    let before = located.deviation(&decimated.mesh, z_scale);
+    (before.samples > 0).then(|| {
+        fit(&located, decimated, z_scale, before.max);
+        let after = located.deviation(&decimated.mesh, z_scale);
+        (score(&before), score(&after))
+    })
+}
+
+/// The RMS distance of the original grid lines, with every sample the result misses
+/// (its piece lost, or shrunk far from it) counted at the geometric mean of the
+/// result's RMS and largest distance, so that dropping a piece does not look nearer;
+/// a result that measures no sample at all (an empty one) scores infinite.
 pub fn score(d: &Deviation) -> f64 {
     if d.samples == 0 {
         return f64::INFINITY;
@@ -122,7 +124,8 @@ pub fn score(d: &Deviation) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::measure::deviation;
+    use crate::decimate;
+    use crate::measure::{deviation, outline_bound};
     use strata_grid::CellFace;
 
     /// A flat grid of 12 x 8 cells with a notch of 4 x 3 cells cut out of one side:
@@ -162,7 +165,7 @@ mod tests {
         };
         let chosen = decimate_chosen(&mesh, &options).unwrap();
         assert_eq!(chosen.maker, Maker::Strata);
-        assert!(chosen.compared.is_none());
+        assert!(chosen.fitted.is_none());
         let ours = decimate(&mesh, &options).unwrap();
         assert_eq!(chosen.decimated.mesh.triangles, ours.mesh.triangles);
         // The rectangle's 40 outline vertices, and 6 more around the notch.
@@ -170,7 +173,7 @@ mod tests {
     }
 
     #[test]
-    fn below_it_the_nearer_grid_lines_win() {
+    fn below_it_meshopts_result_is_fitted() {
         let mesh = notched();
         for target in [2, 3, 4] {
             let options = Options {
@@ -178,26 +181,21 @@ mod tests {
                 ..Options::default()
             };
             let chosen = decimate_chosen(&mesh, &options).unwrap();
-            let (ours, theirs) = chosen.compared.expect("both ran below the bound");
-            let kept = deviation(
-                &mesh,
-                &chosen.decimated.mesh,
-                &chosen.decimated.home,
-                SAMPLES_PER_EDGE,
-                1.0,
-            );
-            let kept = score(&kept);
+            assert_eq!(chosen.maker, Maker::Meshopt, "target {target}");
+            let (before, after) = chosen.fitted.expect("fitted below the bound");
+            assert!(after <= before, "target {target}: {before} -> {after}");
+            let kept = &chosen.decimated;
+            kept.mesh.validate().unwrap();
+            let measured = deviation(&mesh, &kept.mesh, &kept.home, SAMPLES_PER_EDGE, 1.0);
+            let measured = score(&measured);
             assert!(
-                (kept - ours.min(theirs)).abs() <= 1e-9 * ours.max(theirs),
-                "target {target}: kept {kept} of {ours} and {theirs}"
+                (measured - after).abs() <= 1e-9 * before,
+                "target {target}: kept {measured}, fitted {after}"
             );
-            let want = if theirs < ours {
-                Maker::Meshopt
-            } else {
-                Maker::Strata
-            };
-            assert_eq!(chosen.maker, want, "target {target}");
-            chosen.decimated.mesh.validate().unwrap();
+            // Only positions moved: meshoptimizer's triangles and texture coordinates.
+            let theirs = simplify(&mesh, Simplifier::Simplify, target, 1.0).unwrap();
+            assert_eq!(kept.mesh.triangles, theirs.mesh.triangles);
+            assert_eq!(kept.mesh.texcoords, theirs.mesh.texcoords);
         }
     }
 
@@ -225,16 +223,25 @@ mod tests {
     }
 
     #[test]
-    fn an_empty_result_never_wins() {
+    fn an_empty_meshopt_result_leaves_ours() {
         // meshoptimizer takes a target of no triangle literally.
-        let chosen = decimate_chosen(&notched(), &Options::default()).unwrap();
-        assert!(chosen.compared.is_some());
+        let mesh = notched();
+        let chosen = decimate_chosen(&mesh, &Options::default()).unwrap();
         assert_eq!(chosen.maker, Maker::Strata);
+        let ours = decimate(&mesh, &Options::default()).unwrap();
+        assert_eq!(chosen.decimated.mesh.triangles, ours.mesh.triangles);
+        // Fitted too: the fit weighs the samples the surface draws, the score also
+        // those outside it, so the score may rise by a trifle.
+        let (before, after) = chosen.fitted.expect("ours fitted below the bound");
+        assert!(
+            after.is_finite() && after <= 1.001 * before,
+            "{before} -> {after}"
+        );
         assert!(!chosen.decimated.mesh.is_empty());
     }
 
     #[test]
-    fn cover_and_error_targets_never_compare() {
+    fn cover_and_error_targets_keep_ours() {
         let mesh = notched();
         for options in [
             Options {
@@ -249,7 +256,7 @@ mod tests {
         ] {
             let chosen = decimate_chosen(&mesh, &options).unwrap();
             assert_eq!(chosen.maker, Maker::Strata);
-            assert!(chosen.compared.is_none());
+            assert!(chosen.fitted.is_none());
         }
     }
 }

@@ -5,11 +5,11 @@
 //!   at most the error) with the original surface's texture coordinates and scalar
 //!   there, so the original grid wireframe (global coordinates) is still drawn where
 //!   it was on the simplified surface (Celes & Abraham 2011, section 5, Fig. 12).
-//! * [`decimate_chosen`]: ours, or meshoptimizer's `simplify` where a budget too small
-//!   to keep the outlines makes it draw the grid lines nearer to the original.
+//! * [`decimate_chosen`]: ours, or meshoptimizer's `simplify`, fitted, where a budget
+//!   too small to keep the outlines makes it draw the grid lines nearer.
 //! * [`fit`]: moves a simplified surface's vertices, texture coordinates fixed, to
 //!   where it draws the original grid lines nearest to where the original does
-//!   (what [`decimate_chosen`] does to both results it compares).
+//!   (what [`decimate_chosen`] does to meshoptimizer's result).
 //! * [`CellCover`]: the cells each piece of a surface covers, for decimation that lets
 //!   outlines grow only outward and a renderer that masks fragments by their cell.
 //! * [`baseline`]: meshoptimizer's simplifiers on the same meshes, to compare with,

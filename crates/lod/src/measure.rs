@@ -326,8 +326,7 @@ const PARALLEL_EDGES: usize = 1 << 14;
 /// The original grid lines a [`deviation`] samples: every cell edge of a surface
 /// (every edge along which one texture coordinate is constant: the diagonals that
 /// split cell quads are no grid lines) once, with the component it lies in. Built
-/// once, it measures any number of simplifications of the same surface (as
-/// [`crate::decimate_chosen`] does with two).
+/// once, it measures any number of simplifications of the same surface.
 pub struct GridLines<'m> {
     original: &'m SurfaceMesh,
     /// Component of each original triangle.
@@ -657,13 +656,22 @@ pub struct OutlineBound {
 /// `min_triangles` must cut corners of it, moving those outline lines by a cell,
 /// whatever the simplifier.
 pub fn outline_bound(mesh: &SurfaceMesh) -> OutlineBound {
-    let n = mesh.vertex_count();
-    let vt = VertexTriangles::new(n, &mesh.triangles);
+    let vt = VertexTriangles::new(mesh.vertex_count(), &mesh.triangles);
     let adjacency = triangle_adjacency(&mesh.triangles, &vt);
+    outline_bound_of(mesh, &vt, &adjacency)
+}
+
+/// [`outline_bound`] of `mesh` with its vertex triangles and triangle adjacency.
+pub(crate) fn outline_bound_of(
+    mesh: &SurfaceMesh,
+    vt: &VertexTriangles,
+    adjacency: &[[u32; 3]],
+) -> OutlineBound {
+    let n = mesh.vertex_count();
     // The outline neighbours of every vertex (edges with no single neighbour).
     let mut ends = vec![[NONE; 2]; n];
     let mut degree = vec![0usize; n];
-    for (tri, across) in mesh.triangles.iter().zip(&adjacency) {
+    for (tri, across) in mesh.triangles.iter().zip(adjacency) {
         for k in 0..3 {
             if across[k] != NONE {
                 continue;
