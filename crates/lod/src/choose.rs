@@ -62,6 +62,7 @@ pub struct Chosen {
 pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> {
     let start = Instant::now();
     let (reference, vt) = Reference::with_vertex_triangles(mesh)?;
+    let prepared = start.elapsed().as_secs_f64();
     let target = options.target_triangles;
     // The outline edges bound the corners from above, for free: most targets are
     // above them, and the exact bound is not needed.
@@ -80,7 +81,7 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
                 fitted: Some(scores),
             });
         }
-        let mut ours = decimate_prepared(&reference, vt, options, start)?;
+        let mut ours = decimate_prepared(&reference, vt, options, prepared)?;
         let scores = fitted(&lines, &mut ours, options.z_scale);
         return Ok(Chosen {
             decimated: ours,
@@ -89,7 +90,7 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
         });
     }
     Ok(Chosen {
-        decimated: decimate_prepared(&reference, vt, options, start)?,
+        decimated: decimate_prepared(&reference, vt, options, prepared)?,
         maker: Maker::Strata,
         fitted: None,
     })

@@ -272,23 +272,22 @@ pub struct Timings {
 pub fn decimate(mesh: &SurfaceMesh, options: &Options) -> Result<Decimated> {
     let start = Instant::now();
     let (reference, vt) = Reference::with_vertex_triangles(mesh)?;
-    decimate_prepared(&reference, vt, options, start)
+    decimate_prepared(&reference, vt, options, start.elapsed().as_secs_f64())
 }
 
 /// [`decimate`] of the mesh `reference` was prepared from (with its vertex triangles
-/// `vt`), timed from `start`, before the preparation.
+/// `vt`), which took `prepared` seconds.
 pub(crate) fn decimate_prepared(
     reference: &Reference,
     vt: VertexTriangles,
     options: &Options,
-    start: Instant,
+    prepared: f64,
 ) -> Result<Decimated> {
-    let mesh = reference.mesh();
+    let start = Instant::now();
     let home = reference.vertex_triangle.clone();
-    let prepared = start.elapsed().as_secs_f64();
     let topology = Some((reference.adjacency.as_slice(), vt));
-    let collapser = Collapser::new(mesh, &home, reference, &[], options, topology)?;
-    let setup = start.elapsed().as_secs_f64() - prepared;
+    let collapser = Collapser::new(reference.mesh(), &home, reference, &[], options, topology)?;
+    let setup = start.elapsed().as_secs_f64();
     let mut out = collapser.run()?;
     out.timings.reference = prepared;
     out.timings.setup = setup;
