@@ -29,7 +29,8 @@
 //! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
 //! texture coordinates of the nearest original point), and as `strata_cover`: outlines
 //! that only grow outward (`Options::cover`), drawn with the renderer's cell mask
-//! (`Renderer::prepare_covered`), so that outline corners cost no triangles.
+//! (`Renderer::prepare_covered`), so that outline corners cost no triangles, and
+//! fitted to the grid lines, as `strata render --lod PERCENT --cover` draws it.
 //!
 //! Speed: input triangles per second for ours and each meshopt simplifier at 10 %,
 //! on the real models and on generated faulted layers of about 0.5, 2 and 8 million
@@ -295,14 +296,15 @@ impl Method {
             }
             Method::Ours(placement) => (decimate(mesh, &ours(placement))?, false),
             Method::OursCover => (
-                decimate(
+                decimate_chosen(
                     mesh,
                     &Options {
                         target_triangles: target,
                         z_scale: Z_SCALE,
                         ..Options::covering(mesh, fraction)
                     },
-                )?,
+                )?
+                .decimated,
                 false,
             ),
             Method::Meshopt(s) => (simplify(mesh, s, target, Z_SCALE)?, false),

@@ -280,22 +280,24 @@ pub fn decimate_scene(
         out.error,
         start.elapsed().as_secs_f64()
     );
-    let outline = outline_bound(mesh);
-    if !cover && options.target_triangles < outline.min_triangles {
+    if !cover {
+        let outline = outline_bound(mesh);
+        if options.target_triangles < outline.min_triangles {
+            eprintln!(
+                "note: keeping the {} corners of the outlines, holes and fault traces takes \
+                 at least {} triangles ({:.1} %): below that, decimation cuts corners and \
+                 moves those lines by a cell (--cover keeps them)",
+                outline.corners,
+                outline.min_triangles,
+                100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
+            );
+        }
+    }
+    if let Some((before, after)) = chosen.fitted {
         eprintln!(
-            "note: keeping the {} corners of the outlines, holes and fault traces takes at \
-             least {} triangles ({:.1} %): below that, decimation cuts corners and moves \
-             those lines by a cell (--cover keeps them){}",
-            outline.corners,
-            outline.min_triangles,
-            100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
-            chosen
-                .fitted
-                .map_or(String::new(), |(before, after)| format!(
-                    "; there the result is fitted to the grid lines: their RMS distance \
-                     {before:.3} -> {after:.3} (lines it lost counted between its RMS and \
-                     largest distance)"
-                ))
+            "fitted to the grid lines, texture coordinates fixed: their RMS distance \
+             {before:.3} -> {after:.3} (lines it lost counted between its RMS and largest \
+             distance)"
         );
     }
     if out.mesh.is_empty() {

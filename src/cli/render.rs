@@ -132,7 +132,8 @@ pub struct RenderArgs {
     /// With --lod: let the outlines, holes and fault traces grow only outward in the
     /// decimation, and draw each decimated surface over the original's cells only (a
     /// cell mask by the global coordinates), so those lines stay exactly the
-    /// original's at any budget. Global wireframe only.
+    /// original's at any budget; the result is fitted to the original grid lines.
+    /// Global wireframe only.
     #[arg(long, requires = "lod")]
     cover: bool,
 }
