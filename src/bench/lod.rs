@@ -22,9 +22,10 @@
 //! goal's 10 % budget: where the budget is smaller, every simplifier must cut outline
 //! corners, and the line-pixel F1 drops for a reason no simplifier can help.
 //!
-//! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, or, on a
-//! layer surface whose budget is below its outline bound, meshopt_simplify's result
-//! fitted to the grid lines (`strata_lod::fit`; the rows count those layers). Ours
+//! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, fitted
+//! to the grid lines (`strata_lod::fit`) where the budget is just above its outline
+//! bound, or, on a layer surface whose budget is below that bound, meshopt_simplify's
+//! result fitted to them (the rows count those layers). Ours
 //! alone runs with both placements of new vertices: `strata_alone` (on the original
 //! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
 //! texture coordinates of the nearest original point), and as `strata_cover`: outlines
@@ -247,8 +248,8 @@ const MODELS: [Model; 5] = [
 /// Who decimates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
-    /// What strata draws with ([`decimate_chosen`]): ours, or meshopt_simplify's
-    /// fitted to the grid lines where the budget is below the outline bound.
+    /// What strata draws with ([`decimate_chosen`]): ours (fitted to the grid lines
+    /// just above the outline bound), or meshopt_simplify's fitted to them below it.
     Strata,
     /// Ours alone.
     Ours(Placement),

@@ -126,7 +126,8 @@ pub struct RenderArgs {
     /// the decimated triangles. Colours are interpolated between nodes (decimated
     /// triangles are no longer cells). Says when PERCENT is below the triangles that
     /// keep every corner of the outlines, holes and fault traces; there meshoptimizer's
-    /// simplify decimates instead, its result fitted to the original grid lines.
+    /// simplify decimates instead, its result fitted to the original grid lines (as
+    /// strata's is just above that).
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent, conflicts_with = "iso")]
     lod: Option<f64>,
     /// With --lod: let the outlines, holes and fault traces grow only outward in the

@@ -9,17 +9,18 @@
 //! positions, which Gauss-Seidel sweeps solve (each vertex in turn to its optimum, the
 //! others held). Unlike [`crate::Options::lift`] (one sweep, interior vertices along
 //! the normal, within their collapse error) every vertex moves, outline vertices too,
-//! in any direction: it is for budgets below the [`crate::measure::outline_bound`],
-//! where outlines are cut anyway and a vertex on a cut outline stands for a stretch
-//! of it. Measured on emerald's layers at 10 % (both of the bench's views, line-pixel
-//! F1): meshopt_simplify's 0.874 / 0.836 -> 0.904 / 0.907, ours 0.856 / 0.851 ->
-//! 0.879 / 0.902 (interior vertices alone: 0.874 / 0.836 and 0.856 / 0.853); on
-//! simpleb8's, 0.295 / 0.460 -> 0.430 / 0.553 and 0.181 / 0.564 -> 0.274 / 0.586.
-//! Above the bound (Reek at 10 %, ours) moving outline vertices costs: 0.978 / 0.990
-//! -> 0.974 / 0.988. Not so with [`crate::Options::cover`]: the renderer's cell mask
-//! draws outlines where their cells' texture coordinates fall, which the fit does not
-//! move, and there it helps at every budget (Reek at 10 %, 0.981 / 0.991 -> 0.988 /
-//! 0.996). A fit costs about a sixth of what locating its samples does.
+//! in any direction: below the [`crate::measure::outline_bound`] outlines are cut
+//! anyway, and a vertex on a cut outline stands for a stretch of it. Measured on
+//! emerald's layers at 10 % (both of the bench's views, line-pixel F1):
+//! meshopt_simplify's 0.874 / 0.836 -> 0.904 / 0.907, ours 0.856 / 0.851 -> 0.879 /
+//! 0.902 (interior vertices alone: 0.874 / 0.836 and 0.856 / 0.853); on simpleb8's,
+//! 0.295 / 0.460 -> 0.430 / 0.553 and 0.181 / 0.564 -> 0.274 / 0.586. Above the
+//! bound it helps ours too (Reek at 10 %: 0.978 / 0.990 -> 0.987 / 0.997), at a cost
+//! in time that [`crate::decimate_chosen`] weighs. With [`crate::Options::cover`] the
+//! renderer's cell mask draws outlines where their cells' texture coordinates fall,
+//! which the fit does not move, and there it helps at every budget (Reek at 10 %,
+//! 0.981 / 0.991 -> 0.988 / 0.996). A fit costs about a sixth of what locating its
+//! samples does.
 
 use crate::Decimated;
 use crate::decimate::{NEW, cross3, dot3, sub3p};
