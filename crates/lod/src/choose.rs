@@ -71,21 +71,21 @@ pub struct Chosen {
 /// [`fit`] to the original grid lines; ours (fitted too) where meshoptimizer's result
 /// draws none of them (it takes a target of no triangle literally). Ours fitted
 /// above the bound but near it ([`FIT_NEAR_BOUND`]), and with [`Options::cover`] at
-/// any target: the cell mask draws the outlines
-/// where their cells' texture coordinates fall, so moving outline vertices does not
-/// cut them, and the fit drew the lines nearer at every budget measured (bench
-/// frames, worse of two views, line-pixel F1: emerald at 20 % 0.931 -> 0.953, at 10 %
-/// 0.846 -> 0.911, at 5 % 0.730 -> 0.829; Reek at 10 % 0.981 -> 0.988, at 5 % 0.799
-/// -> 0.826). With a finite [`Options::max_error`], ours alone (meshoptimizer's
-/// error is another measure, and the fit moves vertices past it).
+/// any target: the cell mask draws the outlines where their cells' texture
+/// coordinates fall, so moving outline vertices does not cut them, and the fit drew
+/// the lines nearer at every budget measured (bench frames, worse of two views,
+/// line-pixel F1: emerald at 20 % 0.931 -> 0.953, at 10 % 0.846 -> 0.911, at 5 %
+/// 0.730 -> 0.829; Reek at 10 % 0.981 -> 0.988, at 5 % 0.799 -> 0.826). With a finite
+/// [`Options::max_error`], ours alone (meshoptimizer's error is another measure, and
+/// the fit moves vertices past it).
 pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> {
     let start = Instant::now();
     let (reference, vt) = Reference::with_vertex_triangles(mesh)?;
     let prepared = start.elapsed().as_secs_f64();
     let target = options.target_triangles;
     let fitting = options.max_error.is_infinite();
-    // The outline edges bound the corners from above, for free: most targets are
-    // far above them, and the exact bound is not needed.
+    // The outline edges bound the corners, and so the outline bound, from above, for
+    // free: most targets are far above them, and the exact bound is not needed.
     let outline_edges = reference.adjacency.iter().flatten();
     let outline_edges = outline_edges.filter(|&&t| t == NONE).count();
     let bound =
