@@ -40,10 +40,10 @@ const SAMPLES_PER_EDGE: usize = 2;
 /// inside them gets. The bench's frames (worse of two views, line-pixel F1) of ours
 /// fitted against ours alone: emerald at 20 % (1.27 times its bound) 0.933 -> 0.952,
 /// at 30 % (1.9) 0.969 -> 0.979, at 50 % (3.2) 0.994 -> 0.995; Reek at 10 % (2.0)
-/// 0.978 -> 0.987, at 20 % (3.9) 0.998 -> 0.999. Locating the samples and fitting
-/// costs about 40 % of what ours does (Reek's layers at 10 %: 0.030 s to 0.073 s),
-/// which would take Reek under 1 M input triangles per CPU second, the speed goal;
-/// so only where the gain is largest.
+/// 0.978 -> 0.987, at 20 % (3.9) 0.998 -> 0.999. Sampling the lines, locating the
+/// samples and fitting costs about a quarter of what ours does (Reek's layers at
+/// 10 %: 0.019 s to 0.070 s), which would take Reek under 1 M input triangles per
+/// CPU second, the speed goal; so only where the gain is largest.
 const FIT_NEAR_BOUND: f64 = 1.5;
 
 /// Who made a [`Chosen`] decimation.
