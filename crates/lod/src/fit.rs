@@ -19,8 +19,8 @@
 //! in time that [`crate::decimate_chosen`] weighs. With [`crate::Options::cover`] the
 //! renderer's cell mask draws outlines where their cells' texture coordinates fall,
 //! which the fit does not move, and there it helps at every budget (Reek at 10 %,
-//! 0.981 / 0.991 -> 0.988 / 0.996). A fit costs about a sixth of what locating its
-//! samples does.
+//! 0.981 / 0.991 -> 0.988 / 0.996). A fit costs about a fifth of what locating its
+//! samples and measuring them does (Reek's layers at 10 %: 0.003 s against 0.014 s).
 
 use crate::Decimated;
 use crate::decimate::{NEW, cross3, dot3, sub3p};
