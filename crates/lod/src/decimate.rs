@@ -651,6 +651,11 @@ fn sub3(a: &Point, b: &Point) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// The position part of a joint point.
+fn spatial(x: &Point) -> [f64; 3] {
+    [x[0], x[1], x[2]]
+}
+
 pub(crate) fn sub3p(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
@@ -962,24 +967,23 @@ impl<'a> Collapser<'a> {
             keep_a &= self.grows_outward(b, a);
             keep_b &= self.grows_outward(a, b);
         }
-        // Around `a`'s point, where `a` is the origin.
+        // Around `a`'s point, where `a` is the origin: there the quadric's value is
+        // its constant and its gradient its linear part, without a product by `A`.
         let q = self.pair(a, b);
-        let xa = &[0.0; DIM];
         let xb = &self.from(a, &self.x[b as usize]);
         let (ua, ub) = (
             self.texcoord[a as usize].map(f64::from),
             self.texcoord[b as usize].map(f64::from),
         );
         let edge = [ub[0] - ua[0], ub[1] - ua[1]];
-        // Every cost below comes from `A xa`, `A xb` and, for a new point, `A J` (the
-        // segment's and the plane's minima are expanded around `xa`). The edge lies in
-        // the texture plane, `xb - xa = J (ub - ua)`, so `A xb` follows from the
-        // others without a product of its own.
-        let axa = q.apply(xa);
+        // Every cost below comes from `A xb` and, for a new point, `A J` (the segment's
+        // and the plane's minima are expanded around `a`). The edge lies in the
+        // texture plane, `xb = J (ub - ua)`, so `A xb` follows from `A J` without a
+        // product of its own.
         // Nothing beats keeping `a` by more than a tie when that costs a tie or less
         // (costs are never negative): on flat, affine regions most edges end here,
         // before the texture plane is formed.
-        let keep_a_cost = q.error_with(xa, &axa);
+        let keep_a_cost = q.error_at_origin();
         if keep_a && keep_a_cost <= self.tie {
             return Some((keep_a_cost, Choice::KeepA));
         }
@@ -990,9 +994,7 @@ impl<'a> Collapser<'a> {
             None
         };
         let axb = match &plane {
-            Some((_, aj)) => {
-                std::array::from_fn(|k| axa[k] + aj[0][k] * edge[0] + aj[1][k] * edge[1])
-            }
+            Some((_, aj)) => std::array::from_fn(|k| aj[0][k] * edge[0] + aj[1][k] * edge[1]),
             None => q.apply(xb),
         };
         let mut best: Option<(f64, Choice)> = None;
@@ -1038,11 +1040,11 @@ impl<'a> Collapser<'a> {
                     let normal: Point = [n[0] / len, n[1] / len, n[2] / len, 0.0, 0.0, 0.0];
                     let cols = [j[0], j[1], normal];
                     let acols = [aj[0], aj[1], q.apply(&normal)];
-                    if let Some((d, value)) = q.minimize_in_space(xa, &axa, &cols, &acols)
+                    if let Some((d, value)) = q.minimize_in_space(&cols, &acols)
                         && let Some(uv) = inside([d[0], d[1]])
                         // No further off than the edge is long: beyond, the linear model
                         // of the surface means nothing.
-                        && d[2] * d[2] <= dot3(sub3(xb, xa), sub3(xb, xa))
+                        && d[2] * d[2] <= dot3(spatial(xb), spatial(xb))
                     {
                         consider(q.normalize(value), Choice::point(uv, d[2]));
                         placed = true;
@@ -1053,16 +1055,14 @@ impl<'a> Collapser<'a> {
             // its minimum is never worse than the edge's: the edge's is the fallback
             // for when the plane's is too far away to trust.
             if !placed
-                && let Some((d, value)) = q.minimize_on_plane(xa, &axa, &j, &aj)
+                && let Some((d, value)) = q.minimize_on_plane(&j, &aj)
                 && let Some(uv) = inside(d)
             {
                 consider(q.normalize(value), Choice::point(uv, 0.0));
                 placed = true;
             }
             if !placed {
-                let e: Point = std::array::from_fn(|k| xb[k] - xa[k]);
-                let ae: Point = std::array::from_fn(|k| axb[k] - axa[k]);
-                let (t, value) = q.minimize_on_segment(xa, &axa, &e, &ae);
+                let (t, value) = q.minimize_on_segment(xb, &axb);
                 if t > 0.0 && t < 1.0 {
                     let uv = [ua[0] + t * edge[0], ua[1] + t * edge[1]];
                     consider(q.normalize(value), Choice::point(uv, 0.0));

@@ -189,17 +189,18 @@ impl Quadric {
         ]
     }
 
-    /// `xᵀ A x + 2 bᵀ x + c` from a precomputed `A x`.
+    /// The error at the point the quadric is written around (`x = 0`): `c`
+    /// normalized. Decimation writes each pair's quadric around one end, so that end
+    /// costs no product.
     #[inline]
-    pub fn value_with(&self, x: &Point, ax: &Point) -> f64 {
-        (dot(x, ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
+    pub fn error_at_origin(&self) -> f64 {
+        self.normalize(self.c)
     }
 
     /// [`Quadric::error`] from a precomputed `A x`.
     #[inline]
     pub fn error_with(&self, x: &Point, ax: &Point) -> f64 {
-        let v = self.value_with(x, ax);
-        if self.w > 0.0 { v / self.w } else { v }
+        self.normalize(dot(x, ax) + 2.0 * dot(&self.b, x) + self.c)
     }
 
     /// Turns a quadric value into an error (see [`Quadric::error`]).
@@ -224,20 +225,16 @@ impl Quadric {
         if self.w > 0.0 { v / self.w } else { v }
     }
 
-    /// Minimum over the plane `x0 + J d` (`J`: two columns of R⁶), as `d` and the
-    /// quadric's value there, given `A x0` and `A J`; `None` when the quadric
-    /// restricted to that plane is not well conditioned (flat along some direction,
-    /// so the minimum is not unique).
+    /// Minimum over the plane `J d` through the point the quadric is written around
+    /// (`J`: two columns of R⁶), as `d` and the quadric's value there, given `A J`;
+    /// `None` when the quadric restricted to that plane is not well conditioned (flat
+    /// along some direction, so the minimum is not unique). Decimation searches
+    /// around an end of the collapsing edge, where the quadric is written: there its
+    /// gradient is `2 b` and its value `c`, without a product by `A`.
     #[inline]
-    pub fn minimize_on_plane(
-        &self,
-        x0: &Point,
-        ax0: &Point,
-        j: &[Point; 2],
-        aj: &[Point; 2],
-    ) -> Option<([f64; 2], f64)> {
+    pub fn minimize_on_plane(&self, j: &[Point; 2], aj: &[Point; 2]) -> Option<([f64; 2], f64)> {
         let h = [dot(&j[0], &aj[0]), dot(&j[0], &aj[1]), dot(&j[1], &aj[1])];
-        let g: [f64; 2] = std::array::from_fn(|k| dot(&j[k], ax0) + dot(&j[k], &self.b));
+        let g: [f64; 2] = std::array::from_fn(|k| dot(&j[k], &self.b));
         let det = h[0] * h[2] - h[1] * h[1];
         let trace = h[0] + h[2];
         if !(trace > 0.0 && det > 1e-9 * trace * trace) {
@@ -248,7 +245,7 @@ impl Quadric {
             -(h[2] * g[0] - h[1] * g[1]) * inv,
             -(h[0] * g[1] - h[1] * g[0]) * inv,
         ];
-        let value = self.value_with(x0, ax0)
+        let value = self.c
             + 2.0 * (d[0] * g[0] + d[1] * g[1])
             + d[0] * d[0] * h[0]
             + 2.0 * d[0] * d[1] * h[1]
@@ -256,22 +253,17 @@ impl Quadric {
         Some((d, value))
     }
 
-    /// Minimum over the 3-space `x0 + C d` (`C`: three columns of R⁶), as `d` and the
-    /// quadric's value there, given `A x0` and `A C`; `None` when not well conditioned.
-    pub fn minimize_in_space(
-        &self,
-        x0: &Point,
-        ax0: &Point,
-        c: &[Point; 3],
-        ac: &[Point; 3],
-    ) -> Option<([f64; 3], f64)> {
+    /// Minimum over the 3-space `C d` through the point the quadric is written around
+    /// (`C`: three columns of R⁶), as `d` and the quadric's value there, given `A C`;
+    /// `None` when not well conditioned.
+    pub fn minimize_in_space(&self, c: &[Point; 3], ac: &[Point; 3]) -> Option<([f64; 3], f64)> {
         let mut h = [[0f64; 3]; 3];
         for i in 0..3 {
             for j in 0..3 {
                 h[i][j] = dot(&c[i], &ac[j]);
             }
         }
-        let g: [f64; 3] = std::array::from_fn(|k| dot(&c[k], ax0) + dot(&c[k], &self.b));
+        let g: [f64; 3] = std::array::from_fn(|k| dot(&c[k], &self.b));
         // Cramer's rule on the symmetric 3 x 3 system H d = -g.
         let det3 = |m: &[[f64; 3]; 3]| {
             m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
@@ -291,7 +283,7 @@ impl Quadric {
             }
             det3(&m) * inv
         });
-        let mut value = self.value_with(x0, ax0);
+        let mut value = self.c;
         for i in 0..3 {
             value += 2.0 * d[i] * g[i];
             for j in 0..3 {
@@ -301,24 +293,18 @@ impl Quadric {
         Some((d, value))
     }
 
-    /// Minimum over the segment `x0 + t e`, `t` in `[0, 1]`, as `t` and the value
-    /// there, given `A x0` and `A e`.
+    /// Minimum over the segment `t e`, `t` in `[0, 1]`, from the point the quadric is
+    /// written around, as `t` and the value there, given `A e`.
     #[inline]
-    pub fn minimize_on_segment(
-        &self,
-        x0: &Point,
-        ax0: &Point,
-        e: &Point,
-        ae: &Point,
-    ) -> (f64, f64) {
+    pub fn minimize_on_segment(&self, e: &Point, ae: &Point) -> (f64, f64) {
         let h = dot(e, ae);
-        let g = dot(e, ax0) + dot(e, &self.b);
+        let g = dot(e, &self.b);
         let t = if h > 0.0 {
             (-g / h).clamp(0.0, 1.0)
         } else {
             0.0
         };
-        (t, self.value_with(x0, ax0) + 2.0 * t * g + t * t * h)
+        (t, self.c + 2.0 * t * g + t * t * h)
     }
 }
 
@@ -401,12 +387,13 @@ mod tests {
 
     #[test]
     fn minimum_on_a_plane_and_a_segment() {
-        // Two planes z = 1 and z = -1 in position only: the best z is 0.
-        let mut quad = Quadric::plane([0.0, 0.0, 1.0], 1.0, 1.0);
-        quad.add(&Quadric::plane([0.0, 0.0, 1.0], -1.0, 1.0));
-        let x0 = pt(0.0, 0.0, 5.0, 0.0, 0.0, 0.0);
+        // Written around z = 5, as decimation writes a pair's quadric around one end:
+        // two planes z = 1 and z = -1 in position only, so the best z is 0.
+        let mut quad = Quadric::plane([0.0, 0.0, 1.0], 1.0 - 5.0, 1.0);
+        quad.add(&Quadric::plane([0.0, 0.0, 1.0], -1.0 - 5.0, 1.0));
+        assert!((quad.error_at_origin() - 52.0).abs() < 1e-9);
         let e = pt(0.0, 0.0, -10.0, 0.0, 0.0, 0.0);
-        let (t, value) = quad.minimize_on_segment(&x0, &quad.apply(&x0), &e, &quad.apply(&e));
+        let (t, value) = quad.minimize_on_segment(&e, &quad.apply(&e));
         // At z = 0 both planes are at distance 1.
         assert!(
             (t - 0.5).abs() < 1e-12 && (value - 2.0).abs() < 1e-9,
@@ -419,7 +406,7 @@ mod tests {
         ];
         let on_plane = |quad: &Quadric| {
             let aj = [quad.apply(&j[0]), quad.apply(&j[1])];
-            quad.minimize_on_plane(&x0, &quad.apply(&x0), &j, &aj)
+            quad.minimize_on_plane(&j, &aj)
         };
         assert_eq!(on_plane(&quad), None);
         // Add x = 2 and the minimum is unique: x = 2, z = 0.
@@ -431,7 +418,20 @@ mod tests {
         );
         assert!(
             (value - 2.0).abs() < 1e-9
-                && (value - quad.value(&pt(2.0, 0.0, 0.0, 0.0, 0.0, 0.0))).abs() < 1e-9
+                && (value - quad.value(&pt(2.0, 0.0, -5.0, 0.0, 0.0, 0.0))).abs() < 1e-9
         );
+        // In space, y the third direction: flat along y until y = 3 is added too.
+        let in_space = |quad: &Quadric| {
+            let c = [j[0], j[1], pt(0.0, 1.0, 0.0, 0.0, 0.0, 0.0)];
+            quad.minimize_in_space(&c, &c.map(|x| quad.apply(&x)))
+        };
+        assert_eq!(in_space(&quad), None);
+        quad.add(&Quadric::plane([0.0, 1.0, 0.0], 3.0, 1.0));
+        let (d, value) = in_space(&quad).unwrap();
+        assert!(
+            (d[0] - 2.0).abs() < 1e-9 && (d[1] + 5.0).abs() < 1e-9 && (d[2] - 3.0).abs() < 1e-9,
+            "{d:?}"
+        );
+        assert!((value - 2.0).abs() < 1e-9, "{value}");
     }
 }
