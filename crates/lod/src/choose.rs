@@ -127,8 +127,8 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
 /// Fits `decimated` to `lines` and returns its [`score`]s before and after; nothing
 /// when it draws none of them.
 fn fitted(lines: &GridLines, decimated: &mut Decimated, z_scale: f32) -> Option<(f64, f64)> {
-    let located = lines.locate(&decimated.mesh, &decimated.home);
     let z_scale = f64::from(z_scale);
+    let located = lines.locate(&decimated.mesh, &decimated.home, z_scale);
     let before = located.deviation(&decimated.mesh, z_scale);
     (before.samples > 0).then(|| {
         fit(&located, decimated, z_scale, before.max);

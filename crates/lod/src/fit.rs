@@ -200,7 +200,7 @@ mod tests {
             p[0] += 3.0;
             p[2] -= 0.4;
         }
-        let located = lines.locate(&displaced.mesh, &displaced.home);
+        let located = lines.locate(&displaced.mesh, &displaced.home, 5.0);
         let before = located.deviation(&displaced.mesh, 5.0);
         // 3 across and 0.4 * 5 down, as viewed.
         let off = (9.0f64 + 4.0).sqrt();
@@ -243,7 +243,7 @@ mod tests {
         };
         let mut decimated = decimate(&curved, &options).unwrap();
         let (kept, facing) = (decimated.clone(), normals(&decimated.mesh));
-        let located = lines.locate(&decimated.mesh, &decimated.home);
+        let located = lines.locate(&decimated.mesh, &decimated.home, 5.0);
         let before = located.deviation(&decimated.mesh, 5.0);
         let moved = fit(&located, &mut decimated, 5.0, before.max);
         let after = located.deviation(&decimated.mesh, 5.0);

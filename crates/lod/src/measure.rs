@@ -486,10 +486,11 @@ impl<'m> GridLines<'m> {
     }
 
     /// Where `simplified` draws each sample (see [`GridLines::index`] for `home`):
-    /// the nearest point of the same texture coordinates, or of the nearest ones
-    /// outside its boundary; the points stay where they are in texture space when
-    /// the simplified surface's positions change ([`crate::fit`]).
-    pub fn locate(&self, simplified: &SurfaceMesh, home: &[u32]) -> Located {
+    /// the point of the same texture coordinates nearest it with z scaled by
+    /// `z_scale` (the side of a fault that [`GridLines::deviation`] measures), or
+    /// the nearest point outside its boundary; the points stay where they are in
+    /// texture space when the simplified surface's positions change ([`crate::fit`]).
+    pub fn locate(&self, simplified: &SurfaceMesh, home: &[u32], z_scale: f64) -> Located {
         let index = self.index(simplified, home);
         // Collected straight into one list, with room for all: the list is large
         // (Reek's layers: 154 000 samples), and collecting each edge's samples,
@@ -500,7 +501,7 @@ impl<'m> GridLines<'m> {
                 out.extend(self.samples(edge).filter_map(|(uv, target)| {
                     let inside = locate(&index, uv, edge[2], &mut found)?;
                     let nearest = found.iter().min_by(|f, g| {
-                        let d = |p: &SurfacePoint| distance(index.position(p), target, 1.0);
+                        let d = |p: &SurfacePoint| distance(index.position(p), target, z_scale);
                         d(f).total_cmp(&d(g))
                     })?;
                     Some(LocatedSample {
@@ -820,7 +821,7 @@ mod tests {
             simplified.mesh.triangles.remove(7);
             let (m, home) = (&simplified.mesh, &simplified.home);
             let streamed = lines.deviation(m, home, 5.0);
-            let located = lines.locate(m, home);
+            let located = lines.locate(m, home, 5.0);
             let measured = located.deviation(m, 5.0);
             assert!(streamed.outside > 0, "{streamed:?}");
             assert_eq!(
@@ -833,6 +834,34 @@ mod tests {
             );
             assert!((measured.rms - streamed.rms).abs() <= 1e-9 * streamed.rms);
             assert!((measured.max - streamed.max).abs() <= 1e-9 * streamed.max);
+        }
+    }
+
+    #[test]
+    fn where_two_sides_draw_a_sample_it_is_located_on_the_one_measured() {
+        // A simplified surface with two sheets of the same texture coordinates in one
+        // piece (as a fault's two sides are): one 10 across, one 5 up. With z scaled
+        // by 5 the first is the nearer (10 against 25), unscaled the second.
+        let original =
+            SurfaceMesh::structured(2, 2, |i, j| [i as f32 * 10.0, j as f32 * 10.0, 0.0]);
+        let mut simplified = original.clone();
+        simplified.positions.iter_mut().for_each(|p| p[0] += 10.0);
+        let mut up = original.clone();
+        up.positions.iter_mut().for_each(|p| p[2] += 5.0);
+        simplified.append(&up);
+        let home = crate::Reference::new(&original)
+            .unwrap()
+            .vertex_triangle
+            .clone();
+        let home = [home.clone(), home].concat();
+        let lines = GridLines::of(&original, 2);
+        for (z_scale, nearest) in [(5.0, 10.0), (1.0, 5.0)] {
+            let streamed = lines.deviation(&simplified, &home, z_scale);
+            let located = lines
+                .locate(&simplified, &home, z_scale)
+                .deviation(&simplified, z_scale);
+            assert!((streamed.rms - nearest).abs() < 1e-6, "{streamed:?}");
+            assert!((located.rms - nearest).abs() < 1e-6, "{located:?}");
         }
     }
 
