@@ -44,7 +44,7 @@ use std::time::Instant;
 use strata_grid::SurfaceMesh;
 
 use crate::cover::CellCover;
-use crate::quadric::{DIM, Local, Point, Quadric};
+use crate::quadric::{Local, Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
 };
@@ -1915,7 +1915,7 @@ impl<'a> Collapser<'a> {
             let Some(foot) = self.place(v, v, Choice::Point { uv, lift: 0.0 }) else {
                 continue;
             };
-            let bound = q.error(&[0.0; DIM]).sqrt();
+            let bound = q.error_at_origin().sqrt();
             let lift = (dot3(sub3(&x, &foot.x), normal) + step).clamp(-bound, bound);
             let p = match self.options.placement {
                 // The vertex keeps its texture point and scalar and moves along the
