@@ -7,7 +7,6 @@ use std::time::Instant;
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand};
 use strata::grid::SurfaceMesh;
-use strata::lod::measure::outline_bound;
 use strata::lod::{
     BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
 };
@@ -280,18 +279,18 @@ pub fn decimate_scene(
         out.error,
         start.elapsed().as_secs_f64()
     );
-    if !cover {
-        let outline = outline_bound(mesh);
-        if options.target_triangles < outline.min_triangles {
-            eprintln!(
-                "note: keeping the {} corners of the outlines, holes and fault traces takes \
-                 at least {} triangles ({:.1} %): below that, decimation cuts corners and \
-                 moves those lines by a cell (--cover keeps them)",
-                outline.corners,
-                outline.min_triangles,
-                100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
-            );
-        }
+    // The bound is known wherever the target is near enough to it to fall below.
+    if let Some(outline) = chosen.outline
+        && options.target_triangles < outline.min_triangles
+    {
+        eprintln!(
+            "note: keeping the {} corners of the outlines, holes and fault traces takes at \
+             least {} triangles ({:.1} %): below that, decimation cuts corners and moves \
+             those lines by a cell (--cover keeps them)",
+            outline.corners,
+            outline.min_triangles,
+            100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
+        );
     }
     if let Some((before, after)) = chosen.fitted {
         eprintln!(

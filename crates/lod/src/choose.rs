@@ -26,7 +26,7 @@ use strata_grid::SurfaceMesh;
 use crate::baseline::{Simplifier, simplify};
 use crate::decimate::decimate_prepared;
 use crate::fit::fit;
-use crate::measure::{Deviation, GridLines, outline_bound_of};
+use crate::measure::{Deviation, GridLines, OutlineBound, outline_bound_of};
 use crate::reference::{NONE, Reference};
 use crate::{Decimated, Options, Result};
 
@@ -64,6 +64,10 @@ pub struct Chosen {
     /// Where the result was [`fit`]ted, its [`score`]s (RMS distance of the original
     /// grid lines, display length units, z scaled) before and after.
     pub fitted: Option<(f64, f64)>,
+    /// The surface's [`outline_bound`](crate::measure::outline_bound), where the
+    /// target was near enough to it to need it (under 1.5 times the outline edges,
+    /// which bound it from above; never with [`Options::cover`] or an error target).
+    pub outline: Option<OutlineBound>,
 }
 
 /// [`decimate`](crate::decimate), or, where the target is below the surface's
@@ -90,9 +94,9 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
     let outline_edges = outline_edges.filter(|&&t| t == NONE).count();
     let bound =
         (fitting && !options.cover && (target as f64) < FIT_NEAR_BOUND * outline_edges as f64)
-            .then(|| outline_bound_of(mesh, &vt, &reference.adjacency).min_triangles);
+            .then(|| outline_bound_of(mesh, &vt, &reference.adjacency));
     let lines = || GridLines::of(mesh, SAMPLES_PER_EDGE);
-    if bound.is_some_and(|bound| target < bound) {
+    if bound.is_some_and(|bound| target < bound.min_triangles) {
         let lines = lines();
         let mut theirs = simplify(mesh, Simplifier::Simplify, target, options.z_scale)?;
         if let Some(scores) = fitted(&lines, &mut theirs, options.z_scale) {
@@ -100,6 +104,7 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
                 decimated: theirs,
                 maker: Maker::Meshopt,
                 fitted: Some(scores),
+                outline: bound,
             });
         }
         let mut ours = decimate_prepared(&reference, vt, options, prepared)?;
@@ -108,9 +113,11 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
             decimated: ours,
             maker: Maker::Strata,
             fitted: scores,
+            outline: bound,
         });
     }
-    let near = bound.is_some_and(|bound| (target as f64) < FIT_NEAR_BOUND * bound as f64);
+    let near =
+        bound.is_some_and(|bound| (target as f64) < FIT_NEAR_BOUND * bound.min_triangles as f64);
     let mut ours = decimate_prepared(&reference, vt, options, prepared)?;
     let scores = if fitting && (options.cover || near) {
         fitted(&lines(), &mut ours, options.z_scale)
@@ -121,6 +128,7 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
         decimated: ours,
         maker: Maker::Strata,
         fitted: scores,
+        outline: bound,
     })
 }
 
