@@ -53,6 +53,11 @@ pub fn cell_of(uv: [f64; 2]) -> [i32; 2] {
     uv.map(|c| ((c - 1.0) * 0.5).floor() as i32)
 }
 
+/// The cell whose square holds the centre of the triangle of texture coordinates `uv`.
+fn centre_cell(uv: [[f64; 2]; 3]) -> [i32; 2] {
+    cell_of([0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0))
+}
+
 impl CellCover {
     /// The cover of `mesh`, whose every triangle lies in one cell's square of texture
     /// space (a surface made of cell faces, as [`strata_grid::layer_surface`] makes):
@@ -71,8 +76,7 @@ impl CellCover {
         let mut cells = Vec::with_capacity(mesh.triangle_count());
         for (t, tri) in mesh.triangles.iter().enumerate() {
             let uv = tri.map(|v| mesh.texcoords[v as usize].map(f64::from));
-            let centre = [0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0);
-            let cell = cell_of(centre);
+            let cell = centre_cell(uv);
             let lo = cell.map(|c| 2.0 * f64::from(c) + 1.0);
             if uv
                 .iter()
@@ -131,6 +135,44 @@ impl CellCover {
             vertex_piece,
             pieces,
         })
+    }
+
+    /// The value of every cell of every piece's box, piece after piece, each box row
+    /// by row (as its bits): the cell face's value in `mesh`, the surface this cover was
+    /// made of, and NaN where the piece covers no face. Colours a simplified surface
+    /// cell by cell, as the original's faces are, wherever its fragments' texture
+    /// coordinates fall.
+    pub fn values(&self, mesh: &SurfaceMesh) -> Result<Vec<f32>> {
+        let mut first = Vec::with_capacity(self.pieces.len());
+        let mut cells = 0;
+        for p in &self.pieces {
+            first.push(cells);
+            cells += p.size[0] as usize * p.size[1] as usize;
+        }
+        let mut values = vec![f32::NAN; cells];
+        for (f, face) in mesh.cell_faces.iter().enumerate() {
+            let slot = mesh
+                .triangles
+                .get(face.triangles[0] as usize)
+                .and_then(|tri| {
+                    let p = *self.vertex_piece.get(tri[0] as usize)? as usize;
+                    let piece = self.pieces.get(p)?;
+                    let uv = tri.map(|v| mesh.texcoords[v as usize].map(f64::from));
+                    let cell = centre_cell(uv);
+                    let x = usize::try_from(cell[0] - piece.origin[0]).ok()?;
+                    let y = usize::try_from(cell[1] - piece.origin[1]).ok()?;
+                    (x < piece.size[0] as usize && y < piece.size[1] as usize)
+                        .then(|| first[p] + y * piece.size[0] as usize + x)
+                })
+                .ok_or_else(|| {
+                    Error::Mesh(format!(
+                        "cell face {f} lies in no piece of the cover: the cover was made of \
+                         another surface"
+                    ))
+                })?;
+            values[slot] = face.value;
+        }
+        Ok(values)
     }
 
     /// Appends the pieces of `other`, the cover of a surface appended to this one's
@@ -257,6 +299,31 @@ mod tests {
         // Piece 1 covers only cell (5, 0).
         assert!(cover.triangle_overlaps(1, [[11.0, 1.0], [13.0, 1.0], [13.0, 3.0]]));
         assert!(!cover.triangle_overlaps(1, notch));
+    }
+
+    #[test]
+    fn values_follow_the_cells_of_each_box() {
+        let mut mesh = two_pieces();
+        mesh.cell_faces = (0..6)
+            .map(|f| strata_grid::CellFace {
+                triangles: [2 * f, 2 * f + 1],
+                cell: [0; 3],
+                value: 10.0 + f as f32,
+            })
+            .collect();
+        let cover = CellCover::of(&mesh).expect("cell faces");
+        let values = cover.values(&mesh).expect("values");
+        // The first box is 3 x 2 cells with (1, 1) uncovered; the second is cell (5, 0).
+        assert_eq!(values.len(), 7);
+        assert_eq!(&values[..4], &[10.0, 11.0, 12.0, 13.0]);
+        assert!(values[4].is_nan());
+        assert_eq!(&values[5..], &[14.0, 15.0]);
+
+        // A cover whose first box misses cells of the mesh was made of another surface.
+        let mut smaller = cover.clone();
+        smaller.pieces[0].size = [1, 1];
+        let err = smaller.values(&mesh).expect_err("cells outside the box");
+        assert!(err.to_string().contains("cell face 1"), "{err}");
     }
 
     #[test]
