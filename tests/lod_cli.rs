@@ -2,7 +2,8 @@
 //! given beside the model is stored in the hierarchy, and the view is coloured by it,
 //! over the colour range and with the framing that `strata render` gives the model.
 //! `strata render --lod` says when its budget cannot keep the outlines, and offers
-//! `--cover`, which keeps them.
+//! `--cover`, which keeps them, and says which wireframes colour decimated surfaces
+//! cell by cell.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -273,4 +274,38 @@ fn render_lod_cover_is_offered_below_the_outline_bound_and_draws_the_model() {
         "{}",
         stderr(&out)
     );
+}
+
+#[test]
+fn render_lod_says_that_only_the_global_wireframe_colours_by_cell() {
+    // The cell colours themselves are measured in strata-render's tests/covered.rs.
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let png = dir.path().join("lod.png");
+    let render = |wire: &str| {
+        let out = strata(&[
+            "render",
+            sample().to_str().expect("a UTF-8 path"),
+            "--lod",
+            "20",
+            "--wire",
+            wire,
+            "--size",
+            "200x150",
+            "-o",
+            png.to_str().expect("a UTF-8 path"),
+        ]);
+        assert!(
+            out.status.success(),
+            "render --wire {wire}: {}",
+            stderr(&out)
+        );
+        stderr(&out)
+    };
+    let tex = render("tex");
+    assert!(
+        tex.contains("with --wire tex, colours are interpolated"),
+        "{tex}"
+    );
+    let global = render("global");
+    assert!(!global.contains("interpolated between"), "{global}");
 }

@@ -15,7 +15,10 @@
 //!   covers at least half of it); F1 of the decimated frame's line pixels against the
 //!   original's, each pixel matching within one pixel (8-neighbourhood: a line moved
 //!   by under a pixel is where it was), and strictly; RMS colour difference of the
-//!   shaded frames (0-255 per channel, surface coloured by PORO when the model has it).
+//!   shaded frames (0-255 per channel, surface coloured by PORO when the model has it:
+//!   the original's cell faces painted flat, as `strata render` draws them, and every
+//!   decimated surface coloured cell by cell by its global coordinates, as
+//!   `strata render --lod` draws it: `Renderer::prepare_cells`).
 //!
 //! Outlines: per real model, the corners of its layer outlines and the fewest
 //! triangles that keep them all (`strata_lod::measure::outline_bound`), against the
@@ -30,7 +33,7 @@
 //! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
 //! texture coordinates of the nearest original point), and as `strata_cover`: outlines
 //! that only grow outward (`Options::cover`), drawn with the renderer's cell mask
-//! (`Renderer::prepare_covered`), so that outline corners cost no triangles, and
+//! (`CellDraw::mask`), so that outline corners cost no triangles, and
 //! fitted to the grid lines, as `strata render --lod PERCENT --cover` draws it.
 //!
 //! Speed: input triangles per second for ours and each meshopt simplifier at 10 %,
@@ -54,7 +57,7 @@ use strata_lod::baseline::{Simplifier, simplify};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
 use strata_lod::{CellCover, Decimated, Maker, Options, Placement, decimate, decimate_chosen};
 use strata_render::glam::Vec3;
-use strata_render::{Camera, Renderer, Style, View, WireMode};
+use strata_render::{Camera, CellDraw, Renderer, Style, View, WireMode};
 
 const WIDTH: u32 = 1000;
 const HEIGHT: u32 = 800;
@@ -490,16 +493,15 @@ impl Scene {
         Some(Scene { views, range })
     }
 
-    /// Frames of `mesh`, masked by the cells of `cover` (each vertex's piece, and the
-    /// original's cover) when given.
+    /// Frames of `mesh`, drawn against the original's `cells` when given.
     fn draw(
         &self,
         renderer: &mut Renderer,
         mesh: &SurfaceMesh,
-        cover: Option<(&[u32], &CellCover)>,
+        cells: Option<&CellDraw>,
     ) -> Result<Vec<Frames>> {
-        let drawable = match cover {
-            Some((pieces, cover)) => renderer.prepare_covered(mesh, pieces, cover)?,
+        let drawable = match cells {
+            Some(cells) => renderer.prepare_cells(mesh, cells)?,
             None => renderer.prepare(mesh, WireMode::Global)?,
         };
         let solid = Style::default().solid_color;
@@ -614,7 +616,21 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                 .sqrt()
                 .max(f64::MIN_POSITIVE)
         };
-        let reference = scene.draw(&mut renderer, &original, None)?;
+        let reference = scene.draw(&mut renderer, &original.with_cell_values(), None)?;
+        // Each layer's cells, and one cover of the model's as its meshes are appended.
+        let layer_covers = layers
+            .iter()
+            .map(CellCover::of)
+            .collect::<strata_lod::Result<Vec<_>>>()?;
+        let mut cover = CellCover::default();
+        let mut first_piece = Vec::with_capacity(layers.len());
+        let mut values = Vec::new();
+        for (layer, c) in layers.iter().zip(&layer_covers) {
+            first_piece.push(cover.pieces.len() as u32);
+            values.extend(c.values(layer)?);
+            cover.append(c);
+        }
+        let values = (!original.scalars.is_empty()).then_some(values);
         eprintln!(
             "{label}: {} triangles in {} layer surfaces",
             original.triangle_count(),
@@ -649,20 +665,28 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                     devs.iter().map(|d| d.outside).sum::<usize>() as f64 / samples.max(1) as f64;
                 let frames = if mesh.is_empty() {
                     None
-                } else if matches!(method, Method::OursCover) {
-                    let mut cover = CellCover::default();
-                    let mut pieces = Vec::with_capacity(mesh.vertex_count());
-                    for (layer, d) in layers.iter().zip(&decimated) {
-                        let Some(c) = &d.cover else {
-                            anyhow::bail!("{label}: a covering decimation returned no cover");
-                        };
-                        let first = cover.pieces.len() as u32;
-                        pieces.extend(d.pieces(layer, c).into_iter().map(|p| p + first));
-                        cover.append(c);
-                    }
-                    Some(scene.draw(&mut renderer, &mesh, Some((&pieces, &cover)))?)
                 } else {
-                    Some(scene.draw(&mut renderer, &mesh, None)?)
+                    let mut pieces = Vec::with_capacity(mesh.vertex_count());
+                    for (((layer, c), d), first) in layers
+                        .iter()
+                        .zip(&layer_covers)
+                        .zip(&decimated)
+                        .zip(&first_piece)
+                    {
+                        // An unknown piece stays unknown, which the renderer refuses.
+                        pieces.extend(
+                            d.pieces(layer, c)
+                                .into_iter()
+                                .map(|p| p.saturating_add(*first)),
+                        );
+                    }
+                    let cells = CellDraw {
+                        pieces: &pieces,
+                        cover: &cover,
+                        values: values.as_deref(),
+                        mask: matches!(method, Method::OursCover),
+                    };
+                    Some(scene.draw(&mut renderer, &mesh, Some(&cells))?)
                 };
                 let views: Vec<ViewScore> = config
                     .views

@@ -11,7 +11,7 @@ use strata::lod::{
     BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
 };
 use strata::render::glam::Vec3;
-use strata::render::{Camera, Renderer, Style, View, WireMode};
+use strata::render::{Camera, CellDraw, Renderer, Style, View, WireMode};
 use strata::scene::colour_range;
 
 #[derive(Subcommand)]
@@ -238,20 +238,38 @@ fn view(args: &ViewArgs) -> Result<()> {
     Ok(())
 }
 
-/// Per vertex of a decimated scene its piece of the input's cells, and those cells:
-/// what the renderer's cell mask needs.
-pub type Masked = (Vec<u32>, CellCover);
+/// What the renderer needs to draw a decimated scene against the input's cells
+/// ([`CellDraw`]): per vertex its piece of those cells, the cells, and their values
+/// where a property colours the scene.
+pub struct SceneCells {
+    pub pieces: Vec<u32>,
+    pub cover: CellCover,
+    pub values: Option<Vec<f32>>,
+    /// The outlines only grew outward (`--cover`): draw over the input's cells only.
+    pub mask: bool,
+}
+
+impl SceneCells {
+    pub fn draw(&self) -> CellDraw<'_> {
+        CellDraw {
+            pieces: &self.pieces,
+            cover: &self.cover,
+            values: self.values.as_deref(),
+            mask: self.mask,
+        }
+    }
+}
 
 /// `strata render --lod PERCENT`: `mesh` decimated to `percent` % of its triangles,
-/// its vertical error weighed with the view's exaggeration `z_scale`. With `cover`,
-/// its outlines only grow outward, and each vertex's piece of the input's
-/// [`CellCover`] comes with it, for the renderer's cell mask.
+/// its vertical error weighed with the view's exaggeration `z_scale`, and its cells
+/// for drawing it: with `cover`, its outlines only grow outward and the cells mask
+/// it; where the scene has a property, their values colour it cell by cell.
 pub fn decimate_scene(
     mesh: &SurfaceMesh,
     percent: f64,
     z_scale: f32,
     cover: bool,
-) -> Result<(SurfaceMesh, Option<Masked>)> {
+) -> Result<(SurfaceMesh, Option<SceneCells>)> {
     let start = Instant::now();
     let options = Options {
         z_scale,
@@ -302,11 +320,32 @@ pub fn decimate_scene(
     if out.mesh.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }
-    let cover = out
-        .cover
-        .take()
-        .map(|cells| (out.pieces(mesh, &cells), cells));
-    Ok((out.mesh, cover))
+    let coloured = !mesh.scalars.is_empty();
+    let cells = match out.cover.take() {
+        Some(cells) => Some((cells, true)),
+        None if coloured => match CellCover::of(mesh) {
+            Ok(cells) => Some((cells, false)),
+            Err(e) => {
+                eprintln!("note: colours are interpolated between nodes: {e}");
+                None
+            }
+        },
+        None => None,
+    };
+    let cells = match cells {
+        Some((cover, mask)) => Some(SceneCells {
+            pieces: out.pieces(mesh, &cover),
+            values: if coloured {
+                Some(cover.values(mesh).context("the scene's cell values")?)
+            } else {
+                None
+            },
+            cover,
+            mask,
+        }),
+        None => None,
+    };
+    Ok((out.mesh, cells))
 }
 
 /// `--lod PERCENT`: a share of the triangles in (0, 100].

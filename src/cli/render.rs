@@ -123,11 +123,12 @@ pub struct RenderArgs {
     grid_lines: Option<(f64, f64, f64)>,
     /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
-    /// the decimated triangles. Colours are interpolated between nodes (decimated
-    /// triangles are no longer cells). Says when PERCENT is below the triangles that
-    /// keep every corner of the outlines, holes and fault traces; there meshoptimizer's
-    /// simplify decimates instead, its result fitted to the original grid lines (as
-    /// strata's is just above that).
+    /// the decimated triangles. With global, each cell keeps its own colour (looked up
+    /// by the global coordinates); with the others, colours are interpolated between
+    /// nodes (decimated triangles are no longer cells). Says when PERCENT is below the
+    /// triangles that keep every corner of the outlines, holes and fault traces; there
+    /// meshoptimizer's simplify decimates instead, its result fitted to the original
+    /// grid lines (as strata's is just above that).
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent, conflicts_with = "iso")]
     lod: Option<f64>,
     /// With --lod: let the outlines, holes and fault traces grow only outward in the
@@ -293,10 +294,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.cover && args.wire != WireMode::Global {
         bail!("--cover draws with --wire global, not {}", args.wire.name());
     }
-    let (mesh, cover) = match args.lod {
+    let (mesh, cells) = match args.lod {
         Some(percent) => super::lod::decimate_scene(&mesh, percent, args.zscale, args.cover)?,
         None => (mesh, None),
     };
+    if cells.as_ref().is_some_and(|c| c.values.is_some()) && args.wire != WireMode::Global {
+        eprintln!(
+            "note: with --wire {}, colours are interpolated between the decimated surface's \
+             nodes; --wire global colours each cell as the original does",
+            args.wire.name()
+        );
+    }
     // Isolines need the property interpolated between nodes, whatever colours the
     // cells: one value per triangle corner of `mesh`.
     let iso = match &args.iso {
@@ -327,11 +335,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 },
             )?
         }
-        None => match &cover {
-            Some((pieces, cover)) => renderer
-                .prepare_covered(&mesh, pieces, cover)
-                .context("preparing the masked global wireframe")?,
-            None => renderer
+        None => match &cells {
+            Some(cells) if args.wire == WireMode::Global => renderer
+                .prepare_cells(&mesh, &cells.draw())
+                .context("preparing the global wireframe over the original's cells")?,
+            _ => renderer
                 .prepare(&mesh, args.wire)
                 .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?,
         },

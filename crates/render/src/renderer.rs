@@ -6,13 +6,12 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
-use strata_lod::CellCover;
 
 use crate::isoline::{IsolineOptions, IsolineTechnique, RangeAdjust};
 use crate::timing::{FrameTime, FrameTimer};
 use crate::wire::{
-    self, COLOR_FORMAT, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique, WireMode,
-    WireTextureSpec,
+    self, COLOR_FORMAT, CellDraw, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique,
+    WireMode, WireTextureSpec,
 };
 use crate::{Camera, Colormap, Coverage, Error, Gpu, Result, Style};
 
@@ -123,7 +122,8 @@ pub struct Renderer {
     bind_group: wgpu::BindGroup,
     techniques: HashMap<WireMode, Box<dyn Technique>>,
     isolines: Option<IsolineTechnique>,
-    covered: Option<wire::CoveredTechnique>,
+    /// Without and with the mask.
+    cells: [Option<wire::CellTechnique>; 2],
     targets: Option<Targets>,
 }
 
@@ -216,7 +216,7 @@ impl Renderer {
             bind_group,
             techniques: HashMap::new(),
             isolines: None,
-            covered: None,
+            cells: [None, None],
             targets: None,
         })
     }
@@ -233,25 +233,27 @@ impl Renderer {
         validated(&self.gpu, || technique.prepare(&self.gpu, mesh))
     }
 
-    /// Uploads a decimated `mesh` for drawing with the global wireframe over the cells
-    /// of the original only: vertex `v` lies on piece `pieces[v]` of `cover`, the
-    /// original's [`CellCover`], and fragments whose cell that piece does not cover are
-    /// discarded. Made for surfaces decimated with `strata_lod::Options::cover`, whose
-    /// outlines only grew outward.
-    pub fn prepare_covered(
+    /// Uploads a decimated `mesh` for drawing with the global wireframe against the
+    /// cells of the surface it was simplified from: coloured cell by cell as the
+    /// original's faces are (with `cells.values`), and with `cells.mask` only over the
+    /// original's cells, so that a surface decimated with `strata_lod::Options::cover`
+    /// draws the original's outlines, holes and fault traces.
+    pub fn prepare_cells(
         &mut self,
         mesh: &SurfaceMesh,
-        pieces: &[u32],
-        cover: &CellCover,
+        cells: &CellDraw,
     ) -> Result<Box<dyn Drawable>> {
         validated(&self.gpu, || {
-            let technique = self.covered.get_or_insert_with(|| {
-                wire::CoveredTechnique::new(&PipelineContext {
-                    gpu: &self.gpu,
-                    frame_layout: &self.frame_layout,
-                })
+            let technique = self.cells[usize::from(cells.mask)].get_or_insert_with(|| {
+                wire::CellTechnique::new(
+                    &PipelineContext {
+                        gpu: &self.gpu,
+                        frame_layout: &self.frame_layout,
+                    },
+                    cells.mask,
+                )
             });
-            technique.prepare(&self.gpu, mesh, pieces, cover)
+            technique.prepare(&self.gpu, mesh, cells)
         })
     }
 

@@ -1,15 +1,17 @@
-//! The cell mask of `Renderer::prepare_covered`: a surface decimated with outlines
-//! that only grow outward (strata-lod's `Options::cover`) is drawn over the cells of
-//! the original only, so its outline and its grid lines are the original's. Frames use
-//! the measuring convention of support/mod.rs; CI runs this file on llvmpipe (GL) and
-//! lavapipe (Vulkan).
+//! `Renderer::prepare_cells`: a decimated surface drawn against the cells of the one
+//! it was simplified from. With the mask, a surface decimated with outlines that only
+//! grow outward (strata-lod's `Options::cover`) is drawn over the cells of the
+//! original only, so its outline and its grid lines are the original's; with the
+//! cells' values, it is coloured cell by cell as the original's faces are. Frames use
+//! the measuring convention of support/mod.rs where they measure lines; CI runs this
+//! file on llvmpipe (GL) and lavapipe (Vulkan).
 
 mod support;
 
 use strata_grid::SurfaceMesh;
 use strata_lod::{CellCover, Options, decimate};
 use strata_render::glam::Vec3;
-use strata_render::{Camera, Coverage, View, WireMode};
+use strata_render::{Camera, CellDraw, Coverage, Style, View, WireMode};
 use support::*;
 
 const SIZE: u32 = 400;
@@ -81,7 +83,15 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     let original = r.prepare(&mesh, WireMode::Global).expect("original");
     let original = frame(&mut r, original.as_ref());
     let masked = r
-        .prepare_covered(&out.mesh, &pieces, &cover)
+        .prepare_cells(
+            &out.mesh,
+            &CellDraw {
+                pieces: &pieces,
+                cover: &cover,
+                values: None,
+                mask: true,
+            },
+        )
         .expect("covered");
     let masked = frame(&mut r, masked.as_ref());
     let unmasked = r.prepare(&out.mesh, WireMode::Global).expect("unmasked");
@@ -120,21 +130,157 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     );
 }
 
+/// A view straight down on `mesh`.
+fn top_view(mesh: &SurfaceMesh) -> View {
+    let (lo, hi) = mesh.bounds().expect("bounds");
+    View {
+        camera: Camera::fit_points(
+            mesh.positions.iter().map(|&p| Vec3::from(p)),
+            1.0,
+            1.0,
+            (0.0, 89.0),
+            1.0,
+        ),
+        width: SIZE,
+        height: SIZE,
+        bounds: (Vec3::from(lo), Vec3::from(hi)),
+    }
+}
+
+#[test]
+fn the_cells_values_colour_a_decimated_surface_as_the_original_faces() {
+    // A flat grid (so shading is the same everywhere) of cells valued 0..4 in a
+    // pattern no smooth field follows, with those values averaged onto the nodes.
+    let value = |i: usize, j: usize| ((7 * i + 3 * j) % 5) as f32;
+    let mut mesh =
+        SurfaceMesh::structured(CELLS, CELLS, |i, j| [i as f32 * 10.0, j as f32 * 10.0, 0.0]);
+    for face in &mut mesh.cell_faces {
+        face.value = value(face.cell[0] as usize, face.cell[1] as usize);
+    }
+    mesh.scalars = (0..=CELLS)
+        .flat_map(|j| (0..=CELLS).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let around: Vec<f32> = [(i, j), (i.wrapping_sub(1), j), (i, j.wrapping_sub(1))]
+                .into_iter()
+                .chain([(i.wrapping_sub(1), j.wrapping_sub(1))])
+                .filter(|&(a, b)| a < CELLS && b < CELLS)
+                .map(|(a, b)| value(a, b))
+                .collect();
+            around.iter().sum::<f32>() / around.len() as f32
+        })
+        .collect();
+    let out = decimate(&mesh, &Options::fraction(&mesh, 0.02)).expect("decimate");
+    let cover = CellCover::of(&mesh).expect("cell faces");
+    let values = cover.values(&mesh).expect("values");
+    let pieces = out.pieces(&mesh, &cover);
+
+    let mut r = renderer();
+    let view = top_view(&mesh);
+    let style = Style {
+        scalar_range: Some((0.0, 4.0)),
+        background: BACKGROUND,
+        ..Style::default()
+    };
+    let flat = shaded(&mut r, &mesh.with_cell_values(), None, &view, &style);
+    let cells = CellDraw {
+        pieces: &pieces,
+        cover: &cover,
+        values: Some(&values),
+        mask: false,
+    };
+    let cells = shaded(&mut r, &out.mesh, Some(cells), &view, &style);
+    let smooth = shaded(&mut r, &out.mesh, None, &view, &style);
+
+    // Compare the colour at every cell's centre, far from its lines, where the
+    // decimated surface is drawn (below the outline's bound it cuts corners).
+    let proj = Projector::new(&view);
+    let background = BACKGROUND.map(|c| (c * 255.0) as u8);
+    let differing = |image: &strata_render::image::RgbaImage| {
+        let (mut compared, mut differ) = (0, 0);
+        for j in 0..CELLS {
+            for i in 0..CELLS {
+                let c = proj.to_px(Vec3::new(i as f32 * 10.0 + 5.0, j as f32 * 10.0 + 5.0, 0.0));
+                let (a, b) = (
+                    flat.get_pixel(c.x as u32, c.y as u32).0,
+                    image.get_pixel(c.x as u32, c.y as u32).0,
+                );
+                if b == background {
+                    continue;
+                }
+                compared += 1;
+                differ += usize::from((0..3).any(|k| a[k].abs_diff(b[k]) > 6));
+            }
+        }
+        (compared, differ)
+    };
+    let ((compared, with_cells), (_, interpolated)) = (differing(&cells), differing(&smooth));
+    eprintln!(
+        "{} -> {} triangles on {}: of {compared} cell centres drawn ({} cells), {with_cells} \
+         differ from the original's flat colour with the cells' values, {interpolated} with \
+         the vertex scalars",
+        mesh.triangle_count(),
+        out.mesh.triangle_count(),
+        backend(&r),
+        CELLS * CELLS
+    );
+    assert!(compared * 100 >= CELLS * CELLS * 95, "the surface is drawn");
+    assert!(out.mesh.triangle_count() * 20 < mesh.triangle_count());
+    assert_eq!(with_cells, 0, "cells coloured otherwise than the original");
+    assert!(
+        interpolated > compared / 2,
+        "the vertex scalars alone lose the cell pattern"
+    );
+}
+
+/// `mesh` drawn with the global wireframe, against `cells` when given.
+fn shaded(
+    r: &mut strata_render::Renderer,
+    mesh: &SurfaceMesh,
+    cells: Option<CellDraw>,
+    view: &View,
+    style: &Style,
+) -> strata_render::image::RgbaImage {
+    let drawable = match cells {
+        Some(cells) => r.prepare_cells(mesh, &cells),
+        None => r.prepare(mesh, WireMode::Global),
+    }
+    .expect("prepare");
+    r.render(&[drawable.as_ref()], view, style)
+        .unwrap_or_else(|e| panic!("render failed: {e}"))
+}
+
 #[test]
 fn pieces_that_do_not_match_the_mesh_are_refused() {
     let mesh = staircase();
     let cover = CellCover::of(&mesh).expect("cell faces");
     let mut r = renderer();
+    let draw = |pieces| CellDraw {
+        pieces,
+        cover: &cover,
+        values: None,
+        mask: true,
+    };
     let err = r
-        .prepare_covered(&mesh, &cover.vertex_piece[1..], &cover)
+        .prepare_cells(&mesh, &draw(&cover.vertex_piece[1..]))
         .err()
         .expect("one piece short");
     assert!(err.to_string().contains("pieces for"), "{err}");
     let mut wrong = cover.vertex_piece.clone();
     wrong[0] = 7;
     let err = r
-        .prepare_covered(&mesh, &wrong, &cover)
+        .prepare_cells(&mesh, &draw(&wrong))
         .err()
         .expect("no piece 7");
     assert!(err.to_string().contains("piece 7"), "{err}");
+    let err = r
+        .prepare_cells(
+            &mesh,
+            &CellDraw {
+                values: Some(&[1.0; 3]),
+                ..draw(&cover.vertex_piece)
+            },
+        )
+        .err()
+        .expect("three values for a box of cells");
+    assert!(err.to_string().contains("3 cell values"), "{err}");
 }

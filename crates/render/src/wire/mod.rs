@@ -11,7 +11,8 @@ pub mod reference;
 mod texture;
 mod wire_texture;
 
-pub(crate) use texture::CoveredTechnique;
+pub use texture::CellDraw;
+pub(crate) use texture::CellTechnique;
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;

@@ -365,10 +365,12 @@ impl Drawable for PulledDraw {
     }
 }
 
-/// The global wireframe over a decimated surface, masked by the cells of the original
-/// (`fs_uv_cover`): each vertex carries its piece of [`CellCover`], and a texture
-/// holds the pieces' cells.
-pub struct CoveredTechnique {
+/// The global wireframe over a decimated surface, drawn against the cells of the
+/// surface it was simplified from (`fs_uv_cells`, and with the mask `fs_uv_cover`):
+/// each vertex carries its piece of [`CellCover`], and a texture holds the pieces'
+/// cells and, when given, their values.
+pub struct CellTechnique {
+    mask: bool,
     pipelines: [wgpu::RenderPipeline; 4],
     layout: wgpu::BindGroupLayout,
 }
@@ -376,10 +378,31 @@ pub struct CoveredTechnique {
 const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
 
 /// Words per piece at the front of the cover texture (see texture.wgsl).
-const COVER_HEADER: usize = 5;
+const COVER_HEADER: usize = 6;
 
-impl CoveredTechnique {
-    pub fn new(ctx: &PipelineContext) -> Self {
+/// The header word of a piece without values (`NO_VALUES` in texture.wgsl).
+const NO_VALUES: u32 = u32::MAX;
+
+/// A decimated surface drawn against the cells of the surface it was simplified from
+/// ([`crate::Renderer::prepare_cells`]).
+#[derive(Clone, Copy, Debug)]
+pub struct CellDraw<'a> {
+    /// Per vertex of the drawn mesh, its piece of `cover` (strata-lod's
+    /// `Decimated::pieces`).
+    pub pieces: &'a [u32],
+    /// The cells of the surface the drawn one was simplified from.
+    pub cover: &'a CellCover,
+    /// `cover.values(original)`: each fragment takes its cell's colour, as the
+    /// original's cell faces do; elsewhere, and without them, the vertex scalars'.
+    pub values: Option<&'a [f32]>,
+    /// Discard the fragments over cells their piece does not cover: for surfaces
+    /// decimated with strata-lod's `Options::cover`, whose outlines only grew outward.
+    pub mask: bool,
+}
+
+impl CellTechnique {
+    /// The pipelines of `fs_uv_cover` with `mask`, else of `fs_uv_cells`.
+    pub fn new(ctx: &PipelineContext, mask: bool) -> Self {
         let device = &ctx.gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("cell cover"),
@@ -407,25 +430,40 @@ impl CoveredTechnique {
                 attributes: &PIECE_ATTRIBUTES,
             }),
         ];
+        let (label, fragment) = if mask {
+            ("global covered", "fs_uv_cover")
+        } else {
+            ("global cells", "fs_uv_cells")
+        };
         let pipelines = texture_pipelines(
             ctx,
-            "global covered",
+            label,
             &module,
-            ("vs_uv_cover", "fs_uv_cover"),
+            ("vs_uv_cover", fragment),
             &buffers,
             &[&layout],
         );
-        CoveredTechnique { pipelines, layout }
+        CellTechnique {
+            mask,
+            pipelines,
+            layout,
+        }
     }
 
-    /// Uploads `mesh`, whose vertex `v` lies on piece `pieces[v]` of `cover`.
+    /// Uploads `mesh`, drawn against the cells of `cells` (whose mask is this
+    /// technique's).
     pub fn prepare(
         &self,
         gpu: &Gpu,
         mesh: &SurfaceMesh,
-        pieces: &[u32],
-        cover: &CellCover,
+        cells: &CellDraw,
     ) -> Result<Box<dyn Drawable>> {
+        let CellDraw {
+            pieces,
+            cover,
+            values,
+            ..
+        } = *cells;
         if pieces.len() != mesh.vertex_count() {
             return Err(Error::Invalid(format!(
                 "{} pieces for {} vertices",
@@ -445,7 +483,7 @@ impl CoveredTechnique {
                 cover.pieces.len()
             )));
         }
-        let words = cover_words(cover)?;
+        let words = cover_words(cover, values)?;
         let limit = gpu.limits.max_texture_dimension_2d as usize;
         let width = limit.min(4096);
         let rows = words.len().div_ceil(width).max(1);
@@ -492,12 +530,17 @@ impl CoveredTechnique {
                 resource: wgpu::BindingResource::TextureView(&view),
             }],
         });
+        let label = if self.mask {
+            "global covered"
+        } else {
+            "global cells"
+        };
         let draw = IndexedDraw::new(
             gpu,
             self.pipelines.clone(),
             bytemuck::cast_slice(&uv_vertices(mesh)),
             &mesh.triangles,
-            "global covered",
+            label,
         )?;
         let piece_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("cover pieces"),
@@ -505,51 +548,86 @@ impl CoveredTechnique {
             usage: wgpu::BufferUsages::VERTEX,
         });
         let bytes = draw.bytes + piece_buffer.size() + 4 * texels.len() as u64;
-        Ok(Box::new(CoveredDraw {
+        Ok(Box::new(CellsDraw {
             draw,
             pieces: piece_buffer,
             bind_group,
             bytes,
+            label,
         }))
     }
 }
 
-/// The words of `cover` as `covers` in texture.wgsl reads them.
-fn cover_words(cover: &CellCover) -> Result<Vec<u32>> {
-    let mut words = Vec::with_capacity(
-        COVER_HEADER * cover.pieces.len()
-            + cover.pieces.iter().map(|p| p.bits.len()).sum::<usize>(),
-    );
-    let mut offset = COVER_HEADER * cover.pieces.len();
+/// The words of `cover`, and of `values` (one per cell of each piece's box, see
+/// `CellCover::values`) when given, as `covered_cell` and `cell_scalar` in
+/// texture.wgsl read them.
+fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
+    let cells: usize = cover
+        .pieces
+        .iter()
+        .map(|p| p.size[0] as usize * p.size[1] as usize)
+        .sum();
+    if let Some(values) = values
+        && values.len() != cells
+    {
+        return Err(Error::Invalid(format!(
+            "{} cell values for a cover of {cells} cells",
+            values.len()
+        )));
+    }
+    let bit_words: usize = cover.pieces.iter().map(|p| p.bits.len()).sum();
+    let total = COVER_HEADER * cover.pieces.len() + bit_words + values.map_or(0, <[f32]>::len);
+    let word = |offset: usize| {
+        u32::try_from(offset)
+            .ok()
+            .filter(|&w| w != NO_VALUES)
+            .ok_or_else(|| Error::Invalid(format!("a cell cover of {total} words (over 2^32)")))
+    };
+    let mut words = Vec::with_capacity(total);
+    let mut bits = COVER_HEADER * cover.pieces.len();
+    let mut first_value = bits + bit_words;
     for p in &cover.pieces {
-        let first = u32::try_from(offset)
-            .map_err(|_| Error::Invalid("a cell cover of over 2^32 words".into()))?;
         words.extend([
             p.origin[0] as u32,
             p.origin[1] as u32,
             p.size[0],
             p.size[1],
-            first,
+            word(bits)?,
+            match values {
+                Some(_) => word(first_value)?,
+                None => NO_VALUES,
+            },
         ]);
-        offset += p.bits.len();
+        bits += p.bits.len();
+        first_value += p.size[0] as usize * p.size[1] as usize;
     }
     for p in &cover.pieces {
         words.extend_from_slice(&p.bits);
     }
+    if let Some(values) = values {
+        words.extend(values.iter().map(|&v| {
+            if v.is_finite() {
+                v.to_bits()
+            } else {
+                UNDEFINED_SCALAR.to_bits()
+            }
+        }));
+    }
     Ok(words)
 }
 
-struct CoveredDraw {
+struct CellsDraw {
     draw: IndexedDraw,
     pieces: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
     bytes: u64,
+    label: &'static str,
 }
 
-impl Drawable for CoveredDraw {
+impl Drawable for CellsDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let d = &self.draw;
-        let mut pass = frame.begin_pass(encoder, "global covered");
+        let mut pass = frame.begin_pass(encoder, self.label);
         pass.set_pipeline(&d.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_bind_group(1, &self.bind_group, &[]);

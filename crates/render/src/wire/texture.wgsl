@@ -43,25 +43,31 @@ fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
-    return uv_colour(in);
+    return uv_colour(in, in.scalar);
 }
 
-fn uv_colour(in: UvOut) -> vec4<f32> {
+// The surface coloured by `colour_scalar` under the two line families of `in.uv`;
+// isolines follow the interpolated scalar.
+fn uv_colour(in: UvOut, colour_scalar: f32) -> vec4<f32> {
     let dpx = dpdx(in.wp);
     let dpy = dpdy(in.wp);
     let du = dpdx(in.uv);
     let dv = dpdy(in.uv);
     let a = depth_fraction(in.wp);
     let cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
-    let base = base_color(in.scalar);
+    let base = base_color(colour_scalar);
     let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, a);
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
-// Cell mask of decimated surfaces (strata-lod's CellCover): five words per piece
-// (first cell x and y as i32, cells across and down, index of its first bit word),
-// then the bits, a row of cells after another, in a texture read as a flat array.
+// Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover):
+// six words per piece (first cell x and y as i32, cells across and down, index of its
+// first bit word, index of its first value word or NO_VALUES), then the bits, then the
+// values (f32 bits), each a row of cells after another, in a texture read as a flat
+// array.
 @group(1) @binding(4) var cover_words: texture_2d<u32>;
+
+const NO_VALUES: u32 = 0xffffffffu;
 
 struct CoverOut {
     @builtin(position) position: vec4<f32>,
@@ -76,17 +82,31 @@ fn cover_word(i: u32) -> u32 {
     return textureLoad(cover_words, vec2<u32>(i % w, i / w), 0).x;
 }
 
-// Does `piece` cover the cell of global coordinates `uv` (node (i, j) at (2i + 1, 2j + 1))?
-fn covers(piece: u32, uv: vec2<f32>) -> bool {
-    let h = 5u * piece;
+// The place in `piece`'s box of the cell of global coordinates `uv` (node (i, j) at
+// (2i + 1, 2j + 1)), or -1 where the piece does not cover that cell.
+fn covered_cell(piece: u32, uv: vec2<f32>) -> i32 {
+    let h = 6u * piece;
     let cell = vec2<i32>(floor((uv - vec2<f32>(1.0)) * 0.5));
     let rel = cell - vec2<i32>(bitcast<i32>(cover_word(h)), bitcast<i32>(cover_word(h + 1u)));
     let size = vec2<i32>(i32(cover_word(h + 2u)), i32(cover_word(h + 3u)));
     if any(rel < vec2<i32>(0)) || any(rel >= size) {
-        return false;
+        return -1;
     }
     let bit = u32(rel.y) * u32(size.x) + u32(rel.x);
-    return ((cover_word(cover_word(h + 4u) + bit / 32u) >> (bit % 32u)) & 1u) != 0u;
+    if ((cover_word(cover_word(h + 4u) + bit / 32u) >> (bit % 32u)) & 1u) == 0u {
+        return -1;
+    }
+    return i32(bit);
+}
+
+// The scalar that colours a fragment: its cell's value where the piece covers the cell
+// and has values, as the original's cell faces are painted; else the interpolated one.
+fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
+    let first = cover_word(6u * piece + 5u);
+    if cell < 0 || first == NO_VALUES {
+        return interpolated;
+    }
+    return bitcast<f32>(cover_word(first + u32(cell)));
 }
 
 @vertex
@@ -100,11 +120,20 @@ fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(
 // gained, and its outlines, holes and fault traces are the original's.
 @fragment
 fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
-    let colour = uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar));
-    if !covers(in.piece, in.uv) {
+    let cell = covered_cell(in.piece, in.uv);
+    let colour = uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar));
+    if cell < 0 {
         discard;
     }
     return colour;
+}
+
+// The global wireframe over a decimated surface, coloured cell by cell where the
+// original has the cell, with nothing discarded.
+@fragment
+fn fs_uv_cells(in: CoverOut) -> @location(0) vec4<f32> {
+    let cell = covered_cell(in.piece, in.uv);
+    return uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar));
 }
 
 @vertex
