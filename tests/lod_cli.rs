@@ -193,24 +193,7 @@ fn render_lod_says_when_its_budget_cuts_the_outlines() {
     assert!(share > 1.0 && share < 50.0, "outline bound {share:.1} %");
     let dir = tempfile::tempdir().expect("a temporary folder");
     let png = dir.path().join("lod.png");
-    let render = |percent: &str| {
-        let out = strata(&[
-            "render",
-            sample().to_str().expect("a UTF-8 path"),
-            "--lod",
-            percent,
-            "--size",
-            "200x150",
-            "-o",
-            png.to_str().expect("a UTF-8 path"),
-        ]);
-        assert!(
-            out.status.success(),
-            "render --lod {percent}: {}",
-            stderr(&out)
-        );
-        stderr(&out)
-    };
+    let render = |percent: &str| render_sample(&png, "200x150", &["--lod", percent]);
     let below = render("1");
     assert!(
         below.contains(&format!(
@@ -231,23 +214,13 @@ fn render_lod_cover_is_offered_below_the_outline_bound_and_draws_the_model() {
     let model_path = sample();
     let render = |name: &str, options: &[&str]| {
         let png = dir.path().join(format!("{name}.png"));
-        let mut args = vec![
-            "render",
-            model_path.to_str().expect("a UTF-8 path"),
-            "--size",
-            "400x300",
-            "-o",
-            png.to_str().expect("a UTF-8 path"),
-        ];
-        args.extend_from_slice(options);
-        let out = strata(&args);
-        assert!(out.status.success(), "render {options:?}: {}", stderr(&out));
+        let printed = render_sample(&png, "400x300", options);
         let picture = image::open(&png).expect("a PNG").to_rgba8();
         let model = picture
             .pixels()
             .filter(|p| p.0[..3].iter().any(|&c| c <= 245))
             .count();
-        (stderr(&out), model)
+        (printed, model)
     };
     let (_, full) = render("full", &[]);
     let (plain_note, _) = render("plain", &["--lod", "1"]);
@@ -276,31 +249,30 @@ fn render_lod_cover_is_offered_below_the_outline_bound_and_draws_the_model() {
     );
 }
 
+/// What `strata render` printed for the sample with `options`, drawn at `size` to
+/// `png`.
+fn render_sample(png: &Path, size: &str, options: &[&str]) -> String {
+    let sample = sample();
+    let mut args = vec![
+        "render",
+        sample.to_str().expect("a UTF-8 path"),
+        "--size",
+        size,
+        "-o",
+        png.to_str().expect("a UTF-8 path"),
+    ];
+    args.extend_from_slice(options);
+    let out = strata(&args);
+    assert!(out.status.success(), "render {options:?}: {}", stderr(&out));
+    stderr(&out)
+}
+
 #[test]
 fn render_lod_says_that_only_the_global_wireframe_colours_by_cell() {
     // The cell colours themselves are measured in strata-render's tests/covered.rs.
     let dir = tempfile::tempdir().expect("a temporary folder");
     let png = dir.path().join("lod.png");
-    let render = |wire: &str| {
-        let out = strata(&[
-            "render",
-            sample().to_str().expect("a UTF-8 path"),
-            "--lod",
-            "20",
-            "--wire",
-            wire,
-            "--size",
-            "200x150",
-            "-o",
-            png.to_str().expect("a UTF-8 path"),
-        ]);
-        assert!(
-            out.status.success(),
-            "render --wire {wire}: {}",
-            stderr(&out)
-        );
-        stderr(&out)
-    };
+    let render = |wire: &str| render_sample(&png, "200x150", &["--lod", "20", "--wire", wire]);
     let tex = render("tex");
     assert!(
         tex.contains("with --wire tex, colours are interpolated"),

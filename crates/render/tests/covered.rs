@@ -61,22 +61,7 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     let pieces = out.pieces(&mesh, &cover);
 
     let mut r = renderer();
-    let (lo, hi) = mesh.bounds().expect("bounds");
-    let view = View {
-        camera: Camera::fit_points(
-            mesh.triangles
-                .iter()
-                .flatten()
-                .map(|&v| Vec3::from(mesh.positions[v as usize])),
-            1.0,
-            1.0,
-            (0.0, 89.0),
-            1.0,
-        ),
-        width: SIZE,
-        height: SIZE,
-        bounds: (Vec3::from(lo), Vec3::from(hi)),
-    };
+    let view = top_view(&mesh);
     let frame = |r: &mut strata_render::Renderer, d: &dyn strata_render::wire::Drawable| {
         render_frame(r, &[d], &view, 1.0, Coverage::Analytic)
     };
@@ -130,12 +115,15 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     );
 }
 
-/// A view straight down on `mesh`.
+/// A view straight down on the triangles of `mesh`.
 fn top_view(mesh: &SurfaceMesh) -> View {
     let (lo, hi) = mesh.bounds().expect("bounds");
     View {
         camera: Camera::fit_points(
-            mesh.positions.iter().map(|&p| Vec3::from(p)),
+            mesh.triangles
+                .iter()
+                .flatten()
+                .map(|&v| Vec3::from(mesh.positions[v as usize])),
             1.0,
             1.0,
             (0.0, 89.0),
