@@ -430,14 +430,10 @@ impl CellTechnique {
                 attributes: &PIECE_ATTRIBUTES,
             }),
         ];
-        let (label, fragment) = if mask {
-            ("global covered", "fs_uv_cover")
-        } else {
-            ("global cells", "fs_uv_cells")
-        };
+        let fragment = if mask { "fs_uv_cover" } else { "fs_uv_cells" };
         let pipelines = texture_pipelines(
             ctx,
-            label,
+            cells_label(mask),
             &module,
             ("vs_uv_cover", fragment),
             &buffers,
@@ -530,11 +526,7 @@ impl CellTechnique {
                 resource: wgpu::BindingResource::TextureView(&view),
             }],
         });
-        let label = if self.mask {
-            "global covered"
-        } else {
-            "global cells"
-        };
+        let label = cells_label(self.mask);
         let draw = IndexedDraw::new(
             gpu,
             self.pipelines.clone(),
@@ -555,6 +547,15 @@ impl CellTechnique {
             bytes,
             label,
         }))
+    }
+}
+
+/// The name of a cell technique's pipelines and passes.
+fn cells_label(mask: bool) -> &'static str {
+    if mask {
+        "global covered"
+    } else {
+        "global cells"
     }
 }
 
