@@ -624,13 +624,20 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
             .collect::<strata_lod::Result<Vec<_>>>()?;
         let mut cover = CellCover::default();
         let mut first_piece = Vec::with_capacity(layers.len());
-        let mut values = Vec::new();
-        for (layer, c) in layers.iter().zip(&layer_covers) {
+        for c in &layer_covers {
             first_piece.push(cover.pieces.len() as u32);
-            values.extend(c.values(layer)?);
             cover.append(c);
         }
-        let values = (!original.scalars.is_empty()).then_some(values);
+        let values = if original.scalars.is_empty() {
+            None
+        } else {
+            let per_layer = layers
+                .iter()
+                .zip(&layer_covers)
+                .map(|(layer, c)| c.values(layer))
+                .collect::<strata_lod::Result<Vec<_>>>()?;
+            Some(per_layer.concat())
+        };
         eprintln!(
             "{label}: {} triangles in {} layer surfaces",
             original.triangle_count(),

@@ -263,12 +263,14 @@ impl SceneCells {
 /// `strata render --lod PERCENT`: `mesh` decimated to `percent` % of its triangles,
 /// its vertical error weighed with the view's exaggeration `z_scale`, and its cells
 /// for drawing it: with `cover`, its outlines only grow outward and the cells mask
-/// it; where the scene has a property, their values colour it cell by cell.
+/// it; with `cell_colours`, where the scene has a property, their values colour it
+/// cell by cell.
 pub fn decimate_scene(
     mesh: &SurfaceMesh,
     percent: f64,
     z_scale: f32,
     cover: bool,
+    cell_colours: bool,
 ) -> Result<(SurfaceMesh, Option<SceneCells>)> {
     let start = Instant::now();
     let options = Options {
@@ -320,7 +322,7 @@ pub fn decimate_scene(
     if out.mesh.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }
-    let coloured = !mesh.scalars.is_empty();
+    let coloured = cell_colours && !mesh.scalars.is_empty();
     let cells = match out.cover.take() {
         Some(cells) => Some((cells, true)),
         None if coloured => match CellCover::of(mesh) {

@@ -294,11 +294,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.cover && args.wire != WireMode::Global {
         bail!("--cover draws with --wire global, not {}", args.wire.name());
     }
+    let global = args.wire == WireMode::Global;
     let (mesh, cells) = match args.lod {
-        Some(percent) => super::lod::decimate_scene(&mesh, percent, args.zscale, args.cover)?,
+        Some(percent) => {
+            super::lod::decimate_scene(&mesh, percent, args.zscale, args.cover, global)?
+        }
         None => (mesh, None),
     };
-    if cells.as_ref().is_some_and(|c| c.values.is_some()) && args.wire != WireMode::Global {
+    if args.lod.is_some() && !mesh.scalars.is_empty() && !global {
         eprintln!(
             "note: with --wire {}, colours are interpolated between the decimated surface's \
              nodes; --wire global colours each cell as the original does",
@@ -336,10 +339,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             )?
         }
         None => match &cells {
-            Some(cells) if args.wire == WireMode::Global => renderer
+            Some(cells) => renderer
                 .prepare_cells(&mesh, &cells.draw())
                 .context("preparing the global wireframe over the original's cells")?,
-            _ => renderer
+            None => renderer
                 .prepare(&mesh, args.wire)
                 .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?,
         },

@@ -26,6 +26,11 @@ pub struct CoverPiece {
 }
 
 impl CoverPiece {
+    /// Cells in the box, covered or not.
+    pub fn box_cells(&self) -> usize {
+        self.size[0] as usize * self.size[1] as usize
+    }
+
     /// Does this piece cover `cell`?
     pub fn covers(&self, cell: [i32; 2]) -> bool {
         let x = i64::from(cell[0]) - i64::from(self.origin[0]);
@@ -147,7 +152,7 @@ impl CellCover {
         let mut cells = 0;
         for p in &self.pieces {
             first.push(cells);
-            cells += p.size[0] as usize * p.size[1] as usize;
+            cells += p.box_cells();
         }
         let mut values = vec![f32::NAN; cells];
         for (f, face) in mesh.cell_faces.iter().enumerate() {

@@ -563,11 +563,7 @@ fn cells_label(mask: bool) -> &'static str {
 /// `CellCover::values`) when given, as `covered_cell` and `cell_scalar` in
 /// texture.wgsl read them.
 fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
-    let cells: usize = cover
-        .pieces
-        .iter()
-        .map(|p| p.size[0] as usize * p.size[1] as usize)
-        .sum();
+    let cells: usize = cover.pieces.iter().map(|p| p.box_cells()).sum();
     if let Some(values) = values
         && values.len() != cells
     {
@@ -600,7 +596,7 @@ fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
             },
         ]);
         bits += p.bits.len();
-        first_value += p.size[0] as usize * p.size[1] as usize;
+        first_value += p.box_cells();
     }
     for p in &cover.pieces {
         words.extend_from_slice(&p.bits);
