@@ -237,7 +237,8 @@ impl Renderer {
     /// cells of the surface it was simplified from: coloured cell by cell as the
     /// original's faces are (with `cells.values`), and with `cells.mask` only over the
     /// original's cells, so that a surface decimated with `strata_lod::Options::cover`
-    /// draws the original's outlines, holes and fault traces.
+    /// draws the original's outlines, holes and fault traces. Cells of any number of
+    /// pieces are drawn: more than one texture holds go in batches of pieces.
     pub fn prepare_cells(
         &mut self,
         mesh: &SurfaceMesh,

@@ -4,6 +4,8 @@
 //! stands in for the paper's geometry shader). `none` shares the vertex path with the
 //! wire turned off, so every ratio to it compares like with like.
 
+use std::ops::Range;
+
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use strata_lod::CellCover;
@@ -447,12 +449,25 @@ impl CellTechnique {
     }
 
     /// Uploads `mesh`, drawn against the cells of `cells` (whose mask is this
-    /// technique's).
+    /// technique's). A cover larger than one texture of the adapter holds is cut into
+    /// batches of pieces, each with its texture and draw.
     pub fn prepare(
         &self,
         gpu: &Gpu,
         mesh: &SurfaceMesh,
         cells: &CellDraw,
+    ) -> Result<Box<dyn Drawable>> {
+        let limit = gpu.limits.max_texture_dimension_2d as usize;
+        self.prepare_batched(gpu, mesh, cells, limit.min(4096) * limit)
+    }
+
+    /// [`CellTechnique::prepare`] with cover textures of at most `texture_words`.
+    fn prepare_batched(
+        &self,
+        gpu: &Gpu,
+        mesh: &SurfaceMesh,
+        cells: &CellDraw,
+        texture_words: usize,
     ) -> Result<Box<dyn Drawable>> {
         let CellDraw {
             pieces,
@@ -479,59 +494,63 @@ impl CellTechnique {
                 cover.pieces.len()
             )));
         }
-        let words = cover_words(cover, values)?;
-        let limit = gpu.limits.max_texture_dimension_2d as usize;
-        let width = limit.min(4096);
-        let rows = words.len().div_ceil(width).max(1);
-        if rows > limit {
-            return Err(Error::Invalid(format!(
-                "a cell cover of {} words exceeds this adapter's {limit} x {limit} texture",
-                words.len()
-            )));
-        }
-        let mut texels = words;
-        texels.resize(width * rows, 0);
+        let width = (gpu.limits.max_texture_dimension_2d as usize)
+            .min(4096)
+            .min(texture_words);
+        let plan = CoverPlan::new(mesh, cells, texture_words)?;
         let device = &gpu.device;
-        let size = wgpu::Extent3d {
-            width: width as u32,
-            height: rows as u32,
-            depth_or_array_layers: 1,
-        };
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("cell cover"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Uint,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        gpu.queue.write_texture(
-            texture.as_image_copy(),
-            bytemuck::cast_slice(&texels),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * width as u32),
-                rows_per_image: Some(rows as u32),
-            },
-            size,
-        );
-        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("cell cover"),
-            layout: &self.layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(&view),
-            }],
-        });
+        let mut batches = Vec::new();
+        let mut texels_bytes = 0;
+        for (batch, triangles) in plan.batches.iter().zip(&plan.triangle_ranges) {
+            if triangles.is_empty() {
+                continue;
+            }
+            let mut texels = cover_words(cover, values, batch.clone())?;
+            let rows = texels.len().div_ceil(width).max(1);
+            texels.resize(width * rows, 0);
+            texels_bytes += 4 * texels.len() as u64;
+            let size = wgpu::Extent3d {
+                width: width as u32,
+                height: rows as u32,
+                depth_or_array_layers: 1,
+            };
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("cell cover"),
+                size,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Uint,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+                view_formats: &[],
+            });
+            gpu.queue.write_texture(
+                texture.as_image_copy(),
+                bytemuck::cast_slice(&texels),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * width as u32),
+                    rows_per_image: Some(rows as u32),
+                },
+                size,
+            );
+            let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("cell cover"),
+                layout: &self.layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                }],
+            });
+            batches.push((bind_group, triangles.start * 3..triangles.end * 3));
+        }
         let label = cells_label(self.mask);
         let draw = IndexedDraw::new(
             gpu,
             self.pipelines.clone(),
             bytemuck::cast_slice(&uv_vertices(mesh)),
-            &mesh.triangles,
+            &plan.triangles,
             label,
         )?;
         let piece_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -539,11 +558,11 @@ impl CellTechnique {
             contents: bytemuck::cast_slice(pieces),
             usage: wgpu::BufferUsages::VERTEX,
         });
-        let bytes = draw.bytes + piece_buffer.size() + 4 * texels.len() as u64;
+        let bytes = draw.bytes + piece_buffer.size() + texels_bytes;
         Ok(Box::new(CellsDraw {
             draw,
             pieces: piece_buffer,
-            bind_group,
+            batches,
             bytes,
             label,
         }))
@@ -559,21 +578,93 @@ fn cells_label(mask: bool) -> &'static str {
     }
 }
 
-/// The words of `cover`, and of `values` (one per cell of each piece's box, see
-/// `CellCover::values`) when given, as `covered_cell` and `cell_scalar` in
-/// texture.wgsl read them.
-fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
-    let cells: usize = cover.pieces.iter().map(|p| p.box_cells()).sum();
-    if let Some(values) = values
-        && values.len() != cells
-    {
-        return Err(Error::Invalid(format!(
-            "{} cell values for a cover of {cells} cells",
-            values.len()
-        )));
+/// How a cell draw is cut into batches of consecutive pieces whose words each fit one
+/// cover texture of `capacity` words, and its triangles ordered batch by batch (each in
+/// the batch of its first vertex's piece, which the flat-interpolated piece takes).
+struct CoverPlan {
+    batches: Vec<Range<usize>>,
+    triangles: Vec<[u32; 3]>,
+    /// Per batch, its triangles in `triangles`.
+    triangle_ranges: Vec<Range<u32>>,
+}
+
+impl CoverPlan {
+    fn new(mesh: &SurfaceMesh, cells: &CellDraw, capacity: usize) -> Result<Self> {
+        let CellDraw {
+            pieces,
+            cover,
+            values,
+            ..
+        } = *cells;
+        let cell_count: usize = cover.pieces.iter().map(|p| p.box_cells()).sum();
+        if let Some(values) = values
+            && values.len() != cell_count
+        {
+            return Err(Error::Invalid(format!(
+                "{} cell values for a cover of {cell_count} cells",
+                values.len()
+            )));
+        }
+        let mut batches: Vec<Range<usize>> = Vec::new();
+        let mut batch_of_piece = Vec::with_capacity(cover.pieces.len());
+        let mut words = 1;
+        for (i, p) in cover.pieces.iter().enumerate() {
+            let w = COVER_HEADER + p.bits.len() + values.map_or(0, |_| p.box_cells());
+            if 1 + w > capacity {
+                return Err(Error::Invalid(format!(
+                    "piece {i} of the cell cover takes {w} words, more than this adapter's \
+                     texture holds ({capacity})"
+                )));
+            }
+            match batches.last_mut() {
+                Some(b) if words + w <= capacity => {
+                    b.end = i + 1;
+                    words += w;
+                }
+                _ => {
+                    batches.push(i..i + 1);
+                    words = 1 + w;
+                }
+            }
+            batch_of_piece.push(batches.len() as u32 - 1);
+        }
+        let batch_of = |tri: &[u32; 3]| batch_of_piece[pieces[tri[0] as usize] as usize] as usize;
+        let mut starts = vec![0u32; batches.len() + 1];
+        for tri in &mesh.triangles {
+            starts[batch_of(tri) + 1] += 1;
+        }
+        for b in 0..batches.len() {
+            starts[b + 1] += starts[b];
+        }
+        let mut next = starts.clone();
+        let mut triangles = vec![[0; 3]; mesh.triangles.len()];
+        for tri in &mesh.triangles {
+            let slot = &mut next[batch_of(tri)];
+            triangles[*slot as usize] = *tri;
+            *slot += 1;
+        }
+        Ok(CoverPlan {
+            triangle_ranges: starts.windows(2).map(|w| w[0]..w[1]).collect(),
+            batches,
+            triangles,
+        })
     }
-    let bit_words: usize = cover.pieces.iter().map(|p| p.bits.len()).sum();
-    let total = COVER_HEADER * cover.pieces.len() + bit_words + values.map_or(0, <[f32]>::len);
+}
+
+/// The words of the pieces `batch` of `cover`, and of their `values` (one per cell of
+/// each piece's box, see `CellCover::values`) when given, as `covered_cell` and
+/// `cell_scalar` in texture.wgsl read them.
+fn cover_words(cover: &CellCover, values: Option<&[f32]>, batch: Range<usize>) -> Result<Vec<u32>> {
+    let pieces = &cover.pieces[batch.clone()];
+    let first_cell: usize = cover.pieces[..batch.start]
+        .iter()
+        .map(|p| p.box_cells())
+        .sum();
+    let cells: usize = pieces.iter().map(|p| p.box_cells()).sum();
+    let values = values.map(|v| &v[first_cell..first_cell + cells]);
+    let bit_words: usize = pieces.iter().map(|p| p.bits.len()).sum();
+    let header = 1 + COVER_HEADER * pieces.len();
+    let total = header + bit_words + values.map_or(0, <[f32]>::len);
     let word = |offset: usize| {
         u32::try_from(offset)
             .ok()
@@ -581,9 +672,10 @@ fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
             .ok_or_else(|| Error::Invalid(format!("a cell cover of {total} words (over 2^32)")))
     };
     let mut words = Vec::with_capacity(total);
-    let mut bits = COVER_HEADER * cover.pieces.len();
+    words.push(word(batch.start)?);
+    let mut bits = header;
     let mut first_value = bits + bit_words;
-    for p in &cover.pieces {
+    for p in pieces {
         words.extend([
             p.origin[0] as u32,
             p.origin[1] as u32,
@@ -598,7 +690,7 @@ fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
         bits += p.bits.len();
         first_value += p.box_cells();
     }
-    for p in &cover.pieces {
+    for p in pieces {
         words.extend_from_slice(&p.bits);
     }
     if let Some(values) = values {
@@ -616,7 +708,8 @@ fn cover_words(cover: &CellCover, values: Option<&[f32]>) -> Result<Vec<u32>> {
 struct CellsDraw {
     draw: IndexedDraw,
     pieces: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
+    /// Per batch of pieces, its cover texture and its indices.
+    batches: Vec<(wgpu::BindGroup, Range<u32>)>,
     bytes: u64,
     label: &'static str,
 }
@@ -627,11 +720,13 @@ impl Drawable for CellsDraw {
         let mut pass = frame.begin_pass(encoder, self.label);
         pass.set_pipeline(&d.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_bind_group(1, &self.bind_group, &[]);
         pass.set_vertex_buffer(0, d.vertices.slice(..));
         pass.set_vertex_buffer(1, self.pieces.slice(..));
         pass.set_index_buffer(d.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..d.index_count, 0, 0..1);
+        for (bind_group, indices) in &self.batches {
+            pass.set_bind_group(1, bind_group, &[]);
+            pass.draw_indexed(indices.clone(), 0, 0..1);
+        }
     }
 
     fn triangles(&self) -> usize {
@@ -640,5 +735,102 @@ impl Drawable for CellsDraw {
 
     fn bytes(&self) -> u64 {
         self.bytes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+    use strata_grid::CellFace;
+
+    use super::*;
+    use crate::{Camera, Renderer, Style, View};
+
+    /// Nine separate blocks of 6 x 6 cells (cells (i, j) with i % 8 < 6 and j % 8 < 6
+    /// of a flat 24 x 24 grid), valued in a pattern the zero vertex scalars do not
+    /// follow.
+    fn blocks() -> SurfaceMesh {
+        let full = SurfaceMesh::structured(24, 24, |i, j| [i as f32, j as f32, 0.0]);
+        let mut mesh = SurfaceMesh {
+            scalars: vec![0.0; full.vertex_count()],
+            ..full.clone()
+        };
+        mesh.triangles.clear();
+        mesh.cell_faces.clear();
+        for face in &full.cell_faces {
+            let [i, j, _] = face.cell;
+            if i % 8 >= 6 || j % 8 >= 6 {
+                continue;
+            }
+            let t = mesh.triangles.len() as u32;
+            mesh.triangles
+                .extend(face.triangles.map(|old| full.triangles[old as usize]));
+            mesh.cell_faces.push(CellFace {
+                triangles: [t, t + 1],
+                value: ((7 * i + 3 * j) % 5) as f32,
+                ..*face
+            });
+        }
+        mesh
+    }
+
+    #[test]
+    fn a_cover_cut_into_batches_draws_as_one_texture() {
+        let mesh = blocks();
+        let cover = CellCover::of(&mesh).expect("cell faces");
+        assert_eq!(cover.pieces.len(), 9);
+        let values = cover.values(&mesh).expect("values");
+        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 36;
+        let mut r = Renderer::headless().expect("renderer");
+        let technique = CellTechnique::new(&r.context(), false);
+        let draw = |values| CellDraw {
+            pieces: &cover.vertex_piece,
+            cover: &cover,
+            values,
+            mask: false,
+        };
+        let (lo, hi) = mesh.bounds().expect("bounds");
+        let view = View {
+            camera: Camera::fit_points(
+                mesh.positions.iter().map(|&p| Vec3::from(p)),
+                1.0,
+                1.0,
+                (0.0, 89.0),
+                1.0,
+            ),
+            width: 240,
+            height: 240,
+            bounds: (Vec3::from(lo), Vec3::from(hi)),
+        };
+        let style = Style {
+            scalar_range: Some((0.0, 4.0)),
+            ..Style::default()
+        };
+        let mut frame = |cells: CellDraw, words: usize| {
+            let plan = CoverPlan::new(&mesh, &cells, words).expect("plan");
+            let drawable = technique
+                .prepare_batched(&r.gpu, &mesh, &cells, words)
+                .expect("prepare");
+            let image = r
+                .render(&[drawable.as_ref()], &view, &style)
+                .expect("render");
+            (plan.batches.len(), image)
+        };
+        let (one, whole) = frame(draw(Some(&values)), 1 << 20);
+        let (nine, batched) = frame(draw(Some(&values)), 1 + piece_words);
+        let (_, interpolated) = frame(draw(None), 1 << 20);
+        assert_eq!((one, nine), (1, 9));
+        let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
+            a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count()
+        };
+        assert_eq!(differing(&whole, &batched), 0, "batches change the frame");
+        assert!(
+            differing(&whole, &interpolated) > 240 * 240 / 10,
+            "the cells' values colour the frame"
+        );
+        assert!(
+            CoverPlan::new(&mesh, &draw(Some(&values)), piece_words).is_err(),
+            "a piece larger than a texture is refused"
+        );
     }
 }

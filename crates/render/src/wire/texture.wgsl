@@ -60,11 +60,11 @@ fn uv_colour(in: UvOut, colour_scalar: f32) -> vec4<f32> {
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
-// Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover):
-// six words per piece (first cell x and y as i32, cells across and down, index of its
-// first bit word, index of its first value word or NO_VALUES), then the bits, then the
-// values (f32 bits), each a row of cells after another, in a texture read as a flat
-// array.
+// Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover),
+// for a batch of consecutive pieces: the batch's first piece, then six words per piece
+// (first cell x and y as i32, cells across and down, index of its first bit word,
+// index of its first value word or NO_VALUES), then the bits, then the values (f32
+// bits), each a row of cells after another, in a texture read as a flat array.
 @group(1) @binding(4) var cover_words: texture_2d<u32>;
 
 const NO_VALUES: u32 = 0xffffffffu;
@@ -82,10 +82,15 @@ fn cover_word(i: u32) -> u32 {
     return textureLoad(cover_words, vec2<u32>(i % w, i / w), 0).x;
 }
 
+// Where `piece`'s six header words start.
+fn piece_header(piece: u32) -> u32 {
+    return 1u + 6u * (piece - cover_word(0u));
+}
+
 // The place in `piece`'s box of the cell of global coordinates `uv` (node (i, j) at
 // (2i + 1, 2j + 1)), or -1 where the piece does not cover that cell.
 fn covered_cell(piece: u32, uv: vec2<f32>) -> i32 {
-    let h = 6u * piece;
+    let h = piece_header(piece);
     let cell = vec2<i32>(floor((uv - vec2<f32>(1.0)) * 0.5));
     let rel = cell - vec2<i32>(bitcast<i32>(cover_word(h)), bitcast<i32>(cover_word(h + 1u)));
     let size = vec2<i32>(i32(cover_word(h + 2u)), i32(cover_word(h + 3u)));
@@ -102,7 +107,7 @@ fn covered_cell(piece: u32, uv: vec2<f32>) -> i32 {
 // The scalar that colours a fragment: its cell's value where the piece covers the cell
 // and has values, as the original's cell faces are painted; else the interpolated one.
 fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
-    let first = cover_word(6u * piece + 5u);
+    let first = cover_word(piece_header(piece) + 5u);
     if cell < 0 || first == NO_VALUES {
         return interpolated;
     }
