@@ -69,7 +69,8 @@ pub struct ViewArgs {
     #[arg(long, default_value = "1200x900", value_parser = super::render::parse_size)]
     size: (u32, u32),
     /// Wireframe technique: none, global, quad, tex, texgs (global draws the original
-    /// grid on whatever level is drawn).
+    /// grid on whatever level is drawn, and each cell in its own colour, as the model's
+    /// faces are; with the others colours are interpolated between nodes).
     #[arg(long, default_value = "global", value_parser = super::render::parse_wire)]
     wire: WireMode,
     /// Output PNG; only the selection is printed when omitted.
@@ -213,7 +214,25 @@ fn view(args: &ViewArgs) -> Result<()> {
     if let Some(output) = &args.output {
         let mesh = file.selection_mesh(&chosen)?;
         let mut renderer = Renderer::headless()?;
-        let drawable = renderer.prepare(&mesh, args.wire)?;
+        let cells = if args.wire == WireMode::Global {
+            file.selection_cells(&chosen)?
+        } else {
+            None
+        };
+        let drawable = match &cells {
+            Some((cover, values)) => renderer
+                .prepare_cells(
+                    &mesh,
+                    &CellDraw {
+                        pieces: &cover.vertex_piece,
+                        cover,
+                        values: Some(values),
+                        mask: false,
+                    },
+                )
+                .context("preparing the selection over the model's cells")?,
+            None => renderer.prepare(&mesh, args.wire)?,
+        };
         let view = View {
             camera,
             width: args.size.0,
@@ -230,9 +249,17 @@ fn view(args: &ViewArgs) -> Result<()> {
             "{}: drawn with the {} wireframe, {}",
             output.display(),
             args.wire.name(),
-            scalar_range.map_or("no scalar".to_string(), |(a, b)| format!(
-                "coloured by the property's cell range {a:.4}..{b:.4}"
-            ))
+            match scalar_range {
+                None => "no scalar".to_string(),
+                Some((a, b)) => format!(
+                    "coloured {} over the property's cell range {a:.4}..{b:.4}",
+                    if cells.is_some() {
+                        "cell by cell"
+                    } else {
+                        "by values interpolated between nodes"
+                    }
+                ),
+            }
         );
     }
     Ok(())

@@ -10,7 +10,11 @@
 //! node data     per node: vertices (position, texture coordinates, scalar: 24 bytes
 //!               each), then indices (u16 when the node has under 65536 vertices,
 //!               else u32), padded to 8 bytes
-//! LayerRecord   16 bytes per layer surface: grid layer, face, root node, node count
+//! layer cells   with a property, per layer surface after its nodes: a bit per cell of
+//!               the (i, j) domain, row by row, set where the surface has the cell's
+//!               face, then each cell's value (f32), padded to 8 bytes
+//! LayerRecord   24 bytes per layer surface: grid layer, face, root node, node count,
+//!               offset of its cells
 //! NodeRecord    96 bytes per node (see the struct)
 //! ```
 //!
@@ -28,11 +32,12 @@ use memmap2::Mmap;
 use rayon::prelude::*;
 use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surface};
 
-use crate::{BuildOptions, Error, LayerTree, Result, build_layer};
+use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result, build_layer};
 
 const MAGIC: [u8; 8] = *b"STRATLOD";
-/// 2: the header ends with the property's cell range.
-const VERSION: u32 = 2;
+/// 2: the header ends with the property's cell range. 3: each layer surface's cells
+/// and their values, which colour a selection cell by cell.
+const VERSION: u32 = 3;
 /// Header flag: vertices carry a scalar (NaN otherwise).
 const HAS_SCALARS: u32 = 1;
 
@@ -68,6 +73,40 @@ pub struct LayerRecord {
     pub root: u32,
     /// Nodes of this layer (consecutive from the root).
     pub node_count: u32,
+    /// Byte offset of the layer's cells (see the module's layout); 0 without a
+    /// property.
+    pub cells_offset: u64,
+}
+
+/// Sizes of the records as stored.
+const HEADER_BYTES: usize = std::mem::size_of::<Header>();
+const LAYER_BYTES: usize = std::mem::size_of::<LayerRecord>();
+const NODE_BYTES: usize = std::mem::size_of::<NodeRecord>();
+
+/// The cells of one layer surface over the grid's (i, j) domain: which have a face,
+/// and the property's value on each.
+struct LayerCells {
+    faces: Vec<u32>,
+    values: Vec<f32>,
+}
+
+impl LayerCells {
+    fn of(mesh: &SurfaceMesh, dims: [u32; 2]) -> Self {
+        let cells = dims[0] as usize * dims[1] as usize;
+        let mut faces = vec![0; cells.div_ceil(32)];
+        let mut values = vec![f32::NAN; cells];
+        for face in &mesh.cell_faces {
+            let c = face.cell[1] as usize * dims[0] as usize + face.cell[0] as usize;
+            faces[c / 32] |= 1 << (c % 32);
+            values[c] = face.value;
+        }
+        LayerCells { faces, values }
+    }
+}
+
+/// Bytes of a layer's cells in the file for `cells` cells of the (i, j) domain.
+fn layer_cells_bytes(cells: u64) -> u64 {
+    4 * cells.div_ceil(32) + 4 * cells
 }
 
 /// One node of the file.
@@ -183,21 +222,18 @@ impl Writer {
         self.write(&[0u8; 8][..n as usize])
     }
 
-    fn layer(&mut self, k: u32, face: Face, tree: &LayerTree) -> Result<()> {
+    fn layer(
+        &mut self,
+        k: u32,
+        face: Face,
+        tree: &LayerTree,
+        cells: Option<&LayerCells>,
+    ) -> Result<()> {
         if tree.nodes.is_empty() {
             return Ok(());
         }
         let layer = self.layers.len() as u32;
         let base = self.nodes.len() as u32;
-        self.layers.push(LayerRecord {
-            k,
-            face: match face {
-                Face::Top => 0,
-                Face::Bottom => 1,
-            },
-            root: base,
-            node_count: tree.nodes.len() as u32,
-        });
         for node in &tree.nodes {
             let mesh = &node.mesh;
             let data_offset = self.pos;
@@ -236,6 +272,26 @@ impl Writer {
                 _pad: 0,
             });
         }
+        let cells_offset = match cells {
+            Some(cells) => {
+                let offset = self.pos;
+                self.write(bytemuck::cast_slice(&cells.faces))?;
+                self.write(bytemuck::cast_slice(&cells.values))?;
+                self.pad()?;
+                offset
+            }
+            None => 0,
+        };
+        self.layers.push(LayerRecord {
+            k,
+            face: match face {
+                Face::Top => 0,
+                Face::Bottom => 1,
+            },
+            root: base,
+            node_count: tree.nodes.len() as u32,
+            cells_offset,
+        });
         Ok(())
     }
 
@@ -319,15 +375,16 @@ pub fn build_file(
     let mut report = BuildReport::default();
     let batch = rayon::current_num_threads().max(1);
     for chunk in surfaces.chunks(batch) {
-        let trees: Vec<(usize, usize, Face, LayerTree)> = chunk
+        let trees: Vec<(usize, usize, Face, LayerTree, Option<LayerCells>)> = chunk
             .par_iter()
             .map(|&(k, face)| {
                 let mesh = layer_surface(grid, k, face, property, origin)?;
                 let tree = build_layer(&mesh, dims, options)?;
-                Ok((mesh.triangle_count(), k, face, tree))
+                let cells = property.map(|_| LayerCells::of(&mesh, dims));
+                Ok((mesh.triangle_count(), k, face, tree, cells))
             })
             .collect::<Result<_>>()?;
-        for (input, k, face, tree) in trees {
+        for (input, k, face, tree, cells) in trees {
             report.input_triangles += input;
             report.stored_triangles += tree
                 .nodes
@@ -337,7 +394,7 @@ pub fn build_file(
             report.levels = report.levels.max(tree.nodes.first().map_or(0, |n| n.level));
             report.nodes += tree.nodes.len();
             report.layers += usize::from(!tree.nodes.is_empty());
-            writer.layer(k as u32, face, &tree)?;
+            writer.layer(k as u32, face, &tree, cells.as_ref())?;
             bar.inc(1);
             bar.set_message(format!(
                 "{:.1} M triangles in, {:.1} M stored",
@@ -411,7 +468,7 @@ impl LodFile {
         };
         let len = map.len() as u64;
         let head = map
-            .get(..std::mem::size_of::<Header>())
+            .get(..HEADER_BYTES)
             .ok_or_else(|| bad(0, "shorter than the header"))?;
         let header: Header = bytemuck::pod_read_unaligned(head);
         if header.magic != MAGIC {
@@ -420,7 +477,10 @@ impl LodFile {
         if header.version != VERSION {
             return Err(bad(
                 8,
-                &format!("version {} (this reader knows {VERSION})", header.version),
+                &format!(
+                    "version {} (this reader knows {VERSION}): build it again with `strata lod build`",
+                    header.version
+                ),
             ));
         }
         let table_end = |offset: u64, count: u32, size: usize| {
@@ -428,10 +488,10 @@ impl LodFile {
                 .checked_add(u64::from(count) * size as u64)
                 .filter(|&end| end <= len && offset.is_multiple_of(8))
         };
-        if table_end(header.layers_offset, header.layer_count, 16).is_none() {
+        if table_end(header.layers_offset, header.layer_count, LAYER_BYTES).is_none() {
             return Err(bad(64, "layer table outside the file"));
         }
-        if table_end(header.nodes_offset, header.node_count, 96).is_none() {
+        if table_end(header.nodes_offset, header.node_count, NODE_BYTES).is_none() {
             return Err(bad(72, "node table outside the file"));
         }
         let out = LodFile {
@@ -441,7 +501,7 @@ impl LodFile {
         };
         let node_count = header.node_count;
         for (i, n) in out.nodes().iter().enumerate() {
-            let at = header.nodes_offset + 96 * i as u64;
+            let at = header.nodes_offset + (NODE_BYTES * i) as u64;
             let data = u64::from(n.vertex_count) * 24
                 + u64::from(n.index_count) * u64::from(n.index_width);
             let fits = n.data_offset.is_multiple_of(8)
@@ -451,18 +511,33 @@ impl LodFile {
                     .checked_add(data)
                     .is_some_and(|end| end <= len)
                 && n.layer < header.layer_count
+                && n.cells[0] <= n.cells[2]
+                && n.cells[1] <= n.cells[3]
+                && n.cells[2] <= header.dims[0]
+                && n.cells[3] <= header.dims[1]
                 && u64::from(n.first_child) + u64::from(n.child_count) <= u64::from(node_count)
                 && (n.child_count == 0 || n.first_child as usize > i);
             if !fits {
                 return Err(bad(at, &format!("node {i} is inconsistent")));
             }
         }
+        let cells_bytes = layer_cells_bytes(u64::from(header.dims[0]) * u64::from(header.dims[1]));
         for (l, layer) in out.layers().iter().enumerate() {
+            let at = header.layers_offset + (LAYER_BYTES * l) as u64;
             if u64::from(layer.root) + u64::from(layer.node_count) > u64::from(node_count) {
-                return Err(bad(
-                    header.layers_offset + 16 * l as u64,
-                    "layer root outside the nodes",
-                ));
+                return Err(bad(at, "layer root outside the nodes"));
+            }
+            let cells_fit = if out.has_scalars() {
+                layer.cells_offset.is_multiple_of(8)
+                    && layer
+                        .cells_offset
+                        .checked_add(cells_bytes)
+                        .is_some_and(|end| end <= len)
+            } else {
+                layer.cells_offset == 0
+            };
+            if !cells_fit {
+                return Err(bad(at, &format!("layer {l}: cells outside the file")));
             }
         }
         Ok(out)
@@ -499,12 +574,28 @@ impl LodFile {
 
     pub fn layers(&self) -> &[LayerRecord] {
         let o = self.header.layers_offset as usize;
-        bytemuck::cast_slice(&self.map[o..o + 16 * self.header.layer_count as usize])
+        bytemuck::cast_slice(&self.map[o..o + LAYER_BYTES * self.header.layer_count as usize])
     }
 
     pub fn nodes(&self) -> &[NodeRecord] {
         let o = self.header.nodes_offset as usize;
-        bytemuck::cast_slice(&self.map[o..o + 96 * self.header.node_count as usize])
+        bytemuck::cast_slice(&self.map[o..o + NODE_BYTES * self.header.node_count as usize])
+    }
+
+    /// The cells of layer surface `l` over the (i, j) domain, row by row (in place in
+    /// the mapped file): a bit per cell, set where the surface has the cell's face, and
+    /// the property's value on each; `None` without a property.
+    pub fn layer_cells(&self, l: usize) -> Option<(&[u32], &[f32])> {
+        let o = self.layers()[l].cells_offset as usize;
+        if !self.has_scalars() || o == 0 {
+            return None;
+        }
+        let cells = self.header.dims[0] as usize * self.header.dims[1] as usize;
+        let values = o + 4 * cells.div_ceil(32);
+        Some((
+            bytemuck::cast_slice(&self.map[o..values]),
+            bytemuck::cast_slice(&self.map[values..values + 4 * cells]),
+        ))
     }
 
     /// The stored vertices of node `i` (in place in the mapped file).
@@ -617,5 +708,57 @@ impl LodFile {
             self.append_to(i as usize, &mut mesh)?;
         }
         Ok(mesh)
+    }
+
+    /// The cells under the nodes `selection`, for drawing
+    /// [`LodFile::selection_mesh`] coloured cell by cell as the model's faces are: a
+    /// piece per node (its vertices in `vertex_piece`), whose box is the node's cells
+    /// and whose bits its layer's faces there, and the values of those boxes' cells
+    /// (as [`CellCover::values`] orders them). `None` without a property.
+    pub fn selection_cells(&self, selection: &[u32]) -> Result<Option<(CellCover, Vec<f32>)>> {
+        if !self.has_scalars() {
+            return Ok(None);
+        }
+        let ni = self.header.dims[0] as usize;
+        let mut cover = CellCover::default();
+        let mut values = Vec::new();
+        for &i in selection {
+            let n = self
+                .nodes()
+                .get(i as usize)
+                .ok_or_else(|| Error::Option(format!("no node {i}")))?;
+            let Some((faces, layer_values)) = self.layer_cells(n.layer as usize) else {
+                return Ok(None);
+            };
+            let [i0, j0, i1, j1] = n.cells.map(|c| c as usize);
+            let size = [i1 - i0, j1 - j0];
+            let mut bits = vec![0u32; (size[0] * size[1]).div_ceil(32)];
+            for (y, j) in (j0..j1).enumerate() {
+                for (x, i) in (i0..i1).enumerate() {
+                    let c = j * ni + i;
+                    if faces[c / 32] >> (c % 32) & 1 != 0 {
+                        let bit = y * size[0] + x;
+                        bits[bit / 32] |= 1 << (bit % 32);
+                    }
+                }
+                values.extend_from_slice(&layer_values[j * ni + i0..j * ni + i1]);
+            }
+            let piece = cover.pieces.len() as u32;
+            cover
+                .vertex_piece
+                .extend(std::iter::repeat_n(piece, n.vertex_count as usize));
+            let origin = [i0, j0].map(|c| i32::try_from(c).ok());
+            let [Some(oi), Some(oj)] = origin else {
+                return Err(Error::Option(format!(
+                    "node {i}: cells from ({i0}, {j0}) are beyond a cell cover's reach"
+                )));
+            };
+            cover.pieces.push(CoverPiece {
+                origin: [oi, oj],
+                size: size.map(|s| s as u32),
+                bits,
+            });
+        }
+        Ok(Some((cover, values)))
     }
 }

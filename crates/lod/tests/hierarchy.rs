@@ -279,6 +279,63 @@ fn file_round_trip_and_selection() {
     let drawn = file.selection_mesh(&chosen).unwrap();
     drawn.validate().unwrap();
     assert!(drawn.triangle_count() < report.input_triangles);
+
+    // Each layer's cells: a bit where its surface has the cell's face, and the face's
+    // value; the selection's pieces are its nodes, their boxes the nodes' cells.
+    for (l, layer) in file.layers().iter().enumerate() {
+        let face = if layer.face == 0 {
+            Face::Top
+        } else {
+            Face::Bottom
+        };
+        let surface = layer_surface(&grid, layer.k as usize, face, Some("PORO"), [0.0; 3]).unwrap();
+        let (faces, values) = file.layer_cells(l).expect("cells with a property");
+        let has = |c: usize| faces[c / 32] >> (c % 32) & 1 != 0;
+        assert_eq!(
+            (0..40 * 30).filter(|&c| has(c)).count(),
+            surface.cell_faces.len(),
+            "layer {l}"
+        );
+        for f in &surface.cell_faces {
+            let c = (f.cell[1] * 40 + f.cell[0]) as usize;
+            assert!(
+                has(c) && values[c].to_bits() == f.value.to_bits(),
+                "layer {l}, cell {:?}",
+                f.cell
+            );
+        }
+    }
+    let (cover, values) = file.selection_cells(&chosen).unwrap().expect("a property");
+    assert_eq!(cover.pieces.len(), chosen.len());
+    assert_eq!(cover.vertex_piece.len(), drawn.vertex_count());
+    let mut first = 0;
+    for (piece, &i) in cover.pieces.iter().zip(&chosen) {
+        let n = &file.nodes()[i as usize];
+        let (faces, layer_values) = file.layer_cells(n.layer as usize).unwrap();
+        assert_eq!(piece.origin, [n.cells[0] as i32, n.cells[1] as i32]);
+        assert_eq!(
+            piece.size,
+            [n.cells[2] - n.cells[0], n.cells[3] - n.cells[1]]
+        );
+        for y in 0..piece.size[1] as usize {
+            for x in 0..piece.size[0] as usize {
+                let c = (n.cells[1] as usize + y) * 40 + n.cells[0] as usize + x;
+                let cell = [piece.origin[0] + x as i32, piece.origin[1] + y as i32];
+                assert_eq!(piece.covers(cell), faces[c / 32] >> (c % 32) & 1 != 0);
+                let v = values[first + y * piece.size[0] as usize + x];
+                assert_eq!(v.to_bits(), layer_values[c].to_bits());
+            }
+        }
+        first += piece.box_cells();
+    }
+    assert_eq!(first, values.len());
+    assert!(
+        LodFile::open(&plain)
+            .unwrap()
+            .selection_cells(&chosen)
+            .unwrap()
+            .is_none()
+    );
 }
 
 /// Layers are built in parallel batches, each written while the next is built: the
@@ -313,7 +370,7 @@ fn small_saved_file() -> (tempfile::TempDir, std::path::PathBuf, Vec<u8>) {
     let grid = faulted_grid(12, 10);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("small.lod");
-    build_file(&grid, None, &path, &options(4)).unwrap();
+    build_file(&grid, Some("PORO"), &path, &options(4)).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     (dir, path, bytes)
 }
@@ -330,6 +387,15 @@ fn damaged_files_are_errors() {
     std::fs::write(&path, &bad).unwrap();
     let err = LodFile::open(&path).err().unwrap();
     assert!(err.to_string().contains("magic"), "{err}");
+    // A file of the format before per-layer cells is named as such.
+    let mut old = bytes.clone();
+    old[8..12].copy_from_slice(&2u32.to_le_bytes());
+    std::fs::write(&path, &old).unwrap();
+    let err = LodFile::open(&path).err().unwrap().to_string();
+    assert!(
+        err.contains("version 2") && err.contains("lod build"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -381,6 +447,7 @@ fn random_damage_never_panics() {
             for max_pixels in [1.0, 4.0, 1e9] {
                 let selection = file.select(&view, max_pixels);
                 let _ = file.selection_mesh(&selection);
+                let _ = file.selection_cells(&selection);
             }
             for i in 0..file.nodes().len() {
                 let _ = file.mesh(i);

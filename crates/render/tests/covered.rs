@@ -8,8 +8,8 @@
 
 mod support;
 
-use strata_grid::SurfaceMesh;
-use strata_lod::{CellCover, Options, decimate};
+use strata_grid::{Face, SurfaceMesh, layer_surface};
+use strata_lod::{BuildOptions, CellCover, LodFile, Options, build_file, decimate};
 use strata_render::glam::Vec3;
 use strata_render::{Camera, CellDraw, Coverage, Style, View, WireMode};
 use support::*;
@@ -216,6 +216,110 @@ fn the_cells_values_colour_a_decimated_surface_as_the_original_faces() {
     assert_eq!(with_cells, 0, "cells coloured otherwise than the original");
     assert!(
         interpolated > compared / 2,
+        "the vertex scalars alone lose the cell pattern"
+    );
+}
+
+#[test]
+fn a_hierarchy_selection_is_coloured_as_the_model_faces() {
+    // A flat layer of 24 x 24 cells of 10 m, valued 0..4 in a pattern no smooth field
+    // follows; its hierarchy's roots are a few triangles per tile.
+    let n = CELLS;
+    let coord: Vec<f64> = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
+            let (x, y) = (10.0 * i as f64, 10.0 * j as f64);
+            [x, y, 1000.0, x, y, 1010.0]
+        })
+        .collect();
+    let zcorn: Vec<f32> = (0..2)
+        .flat_map(|top| vec![1000.0 + 10.0 * top as f32; 4 * n * n])
+        .collect();
+    let dims = strata_grid::Dims {
+        nx: n,
+        ny: n,
+        nz: 1,
+    };
+    let mut grid =
+        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a flat grid");
+    let value = |i: usize, j: usize| ((7 * i + 3 * j) % 5) as f32;
+    grid.set_property(
+        "PORO",
+        strata_grid::ndarray::Array3::from_shape_fn((1, n, n), |(_, j, i)| value(i, j)),
+    )
+    .expect("PORO");
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("flat.lod");
+    let options = BuildOptions {
+        tile_cells: 8,
+        ..BuildOptions::default()
+    };
+    build_file(&grid, Some("PORO"), &path, &options).expect("build");
+    let file = LodFile::open(&path).expect("open");
+    let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
+    let drawn = file.selection_mesh(&roots).expect("selection");
+    let (cover, values) = file
+        .selection_cells(&roots)
+        .expect("cells")
+        .expect("a property");
+    let original =
+        layer_surface(&grid, 0, Face::Top, Some("PORO"), file.origin()).expect("top surface");
+
+    let mut r = renderer();
+    let view = top_view(&original);
+    let style = Style {
+        scalar_range: Some((0.0, 4.0)),
+        background: BACKGROUND,
+        ..Style::default()
+    };
+    let flat = shaded(&mut r, &original.with_cell_values(), None, &view, &style);
+    let cells = CellDraw {
+        pieces: &cover.vertex_piece,
+        cover: &cover,
+        values: Some(&values),
+        mask: false,
+    };
+    let coloured = shaded(&mut r, &drawn, Some(cells), &view, &style);
+    let smooth = shaded(&mut r, &drawn, None, &view, &style);
+    let proj = Projector::new(&view);
+    let differing = |image: &strata_render::image::RgbaImage| {
+        original
+            .cell_faces
+            .iter()
+            .filter(|face| {
+                // A parallelogram's centre: the mean of its two triangles' corners.
+                let corners = face
+                    .triangles
+                    .iter()
+                    .flat_map(|&t| original.triangles[t as usize]);
+                let centre = corners
+                    .map(|v| Vec3::from(original.positions[v as usize]))
+                    .sum::<Vec3>()
+                    / 6.0;
+                let c = proj.to_px(centre);
+                let (a, b) = (
+                    flat.get_pixel(c.x as u32, c.y as u32).0,
+                    image.get_pixel(c.x as u32, c.y as u32).0,
+                );
+                (0..3).any(|k| a[k].abs_diff(b[k]) > 6)
+            })
+            .count()
+    };
+    let (with_cells, interpolated) = (differing(&coloured), differing(&smooth));
+    eprintln!(
+        "{} triangles in {} roots of {} layer surfaces for {} on {}: {with_cells} cell centres \
+         differ from the model's flat colour with the cells' values, {interpolated} with the \
+         vertex scalars",
+        drawn.triangle_count(),
+        roots.len(),
+        file.layers().len(),
+        original.triangle_count(),
+        backend(&r),
+    );
+    assert!(drawn.triangle_count() * 10 < 2 * original.triangle_count());
+    assert_eq!(with_cells, 0, "cells coloured otherwise than the model");
+    assert!(
+        interpolated > n * n / 2,
         "the vertex scalars alone lose the cell pattern"
     );
 }
