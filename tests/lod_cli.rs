@@ -1,6 +1,7 @@
 //! `strata lod build` and `strata lod view` run as a user runs them: a property deck
-//! given beside the model is stored in the hierarchy, and the view is coloured by it,
-//! over the colour range and with the framing that `strata render` gives the model.
+//! given beside the model is stored in the hierarchy, and the view is coloured by it
+//! cell by cell, over the colour range and with the framing that `strata render` gives
+//! the model.
 //! `strata render --lod` says when its budget cannot keep the outlines, and offers
 //! `--cover`, which keeps them, and says which wireframes colour decimated surfaces
 //! cell by cell.
@@ -116,6 +117,8 @@ fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
             .map(str::to_string)
     };
     let viewed_range = range(&printed, "cell range ");
+    // The cells' colours themselves are measured in strata-render's tests/covered.rs.
+    assert!(printed.contains("coloured cell by cell"), "{printed}");
     assert!(model > 400 * 300 / 5, "{model} model pixels");
     assert!(
         coloured > 0.3,
