@@ -40,6 +40,10 @@ const MIN_BUDGET: usize = 1 << 26;
 /// `6 (nx + 1)(ny + 1)` COORD values), so 64 per byte allows any layer count a real
 /// model has, and refuses a 1 kB file that claims a billion cells.
 const VALUES_PER_BYTE: usize = 64;
+/// Arrays of its grid's size that a property deck may allocate however briefly it is
+/// written (`PORO 100000000*0.2 /`): the grid, read before, already holds eight values
+/// per cell in ZCORN, so a deck for it may cost as much again.
+const PROPERTY_ARRAYS: usize = 8;
 /// INCLUDE nesting deeper than this is refused (cycles are caught before; this
 /// bounds the stack for long chains of distinct files).
 const MAX_INCLUDE_DEPTH: usize = 32;
@@ -145,6 +149,8 @@ pub(super) struct Deck<'o> {
     /// Canonical paths of the files being read, outermost first (cycle detection).
     open: Vec<PathBuf>,
     bytes_seen: usize,
+    /// Values the deck may allocate whatever its length.
+    floor: usize,
     spent: usize,
     section: Section,
     ended: bool,
@@ -174,6 +180,7 @@ pub(super) fn parse_properties(
 ) -> Result<BTreeMap<String, Vec<f32>>> {
     let options = ReadOptions::default();
     let mut deck = Deck::new(path, bytes, &options, Some(Cells::new(dims)));
+    deck.floor = MIN_BUDGET.max(dims.cell_count().saturating_mul(PROPERTY_ARRAYS));
     deck.run(path, bytes)?;
     Ok(deck.cells.map(|c| c.arrays).unwrap_or_default())
 }
@@ -190,6 +197,7 @@ impl<'o> Deck<'o> {
             root_dir,
             open: vec![identity(path)],
             bytes_seen: bytes.len(),
+            floor: MIN_BUDGET,
             spent: 0,
             section: Section::Top,
             ended: false,
@@ -216,7 +224,8 @@ impl Deck<'_> {
     /// How many values the deck may allocate: grows with the text read, so that no
     /// count in a small file can make the reader allocate much.
     fn limit(&self) -> usize {
-        MIN_BUDGET.max(self.bytes_seen.saturating_mul(VALUES_PER_BYTE))
+        self.floor
+            .max(self.bytes_seen.saturating_mul(VALUES_PER_BYTE))
     }
 
     fn left(&self) -> usize {

@@ -692,3 +692,28 @@ fn real_grdecl_files() {
     let names: Vec<&String> = g.properties.keys().collect();
     assert_eq!(names, ["FACIES", "PORO"]);
 }
+
+/// A property deck beside a grid of more cells than any deck may allocate from its
+/// text alone (2^26 values) fills the grid however briefly it is written, and still
+/// refuses a repeat beyond the grid's cells.
+#[test]
+fn a_brief_property_deck_fills_a_large_grid() {
+    let dims = crate::Dims {
+        nx: 9000,
+        ny: 8000,
+        nz: 1,
+    };
+    let path = Path::new("mem/poro.grdecl");
+    let arrays = super::deck::parse_properties(path, b"PORO\n72000000*0.25 /\n", dims)
+        .expect("a deck for 72 million cells");
+    let poro = &arrays["PORO"];
+    assert_eq!(poro.len(), 72_000_000);
+    assert!(poro.iter().all(|&v| v == 0.25));
+    let err = super::deck::parse_properties(path, b"PORO\n72000001*0.25 /\n", dims)
+        .expect_err("one value too many")
+        .to_string();
+    assert!(
+        err.contains("mem/poro.grdecl") && err.contains("PORO"),
+        "{err}"
+    );
+}
