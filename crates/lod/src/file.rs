@@ -528,7 +528,8 @@ impl LodFile {
                 return Err(bad(at, "layer root outside the nodes"));
             }
             let cells_fit = if out.has_scalars() {
-                layer.cells_offset.is_multiple_of(8)
+                layer.cells_offset >= HEADER_BYTES as u64
+                    && layer.cells_offset.is_multiple_of(8)
                     && layer
                         .cells_offset
                         .checked_add(cells_bytes)
@@ -586,10 +587,10 @@ impl LodFile {
     /// the mapped file): a bit per cell, set where the surface has the cell's face, and
     /// the property's value on each; `None` without a property.
     pub fn layer_cells(&self, l: usize) -> Option<(&[u32], &[f32])> {
-        let o = self.layers()[l].cells_offset as usize;
-        if !self.has_scalars() || o == 0 {
+        if !self.has_scalars() {
             return None;
         }
+        let o = self.layers()[l].cells_offset as usize;
         let cells = self.header.dims[0] as usize * self.header.dims[1] as usize;
         let values = o + 4 * cells.div_ceil(32);
         Some((

@@ -8,7 +8,7 @@ use std::ops::Range;
 
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
-use strata_lod::CellCover;
+use strata_lod::{CellCover, CoverPiece};
 use wgpu::util::DeviceExt;
 
 use super::labels::{Labelling, label_vertices};
@@ -501,11 +501,20 @@ impl CellTechnique {
         let device = &gpu.device;
         let mut batches = Vec::new();
         let mut texels_bytes = 0;
-        for (batch, triangles) in plan.batches.iter().zip(&plan.triangle_ranges) {
+        for ((batch, cells), triangles) in plan
+            .batches
+            .iter()
+            .zip(&plan.batch_cells)
+            .zip(&plan.triangle_ranges)
+        {
             if triangles.is_empty() {
                 continue;
             }
-            let mut texels = cover_words(cover, values, batch.clone())?;
+            let mut texels = cover_words(
+                &cover.pieces[batch.clone()],
+                batch.start,
+                values.map(|v| &v[cells.clone()]),
+            )?;
             let rows = texels.len().div_ceil(width).max(1);
             texels.resize(width * rows, 0);
             texels_bytes += 4 * texels.len() as u64;
@@ -583,6 +592,8 @@ fn cells_label(mask: bool) -> &'static str {
 /// the batch of its first vertex's piece, which the flat-interpolated piece takes).
 struct CoverPlan {
     batches: Vec<Range<usize>>,
+    /// Per batch, its pieces' cells (and values) among all the pieces'.
+    batch_cells: Vec<Range<usize>>,
     triangles: Vec<[u32; 3]>,
     /// Per batch, its triangles in `triangles`.
     triangle_ranges: Vec<Range<u32>>,
@@ -606,8 +617,10 @@ impl CoverPlan {
             )));
         }
         let mut batches: Vec<Range<usize>> = Vec::new();
+        let mut batch_cells: Vec<Range<usize>> = Vec::new();
         let mut batch_of_piece = Vec::with_capacity(cover.pieces.len());
         let mut words = 1;
+        let mut cells = 0;
         for (i, p) in cover.pieces.iter().enumerate() {
             let w = COVER_HEADER + p.bits.len() + values.map_or(0, |_| p.box_cells());
             if 1 + w > capacity {
@@ -616,13 +629,17 @@ impl CoverPlan {
                      texture holds ({capacity})"
                 )));
             }
-            match batches.last_mut() {
-                Some(b) if words + w <= capacity => {
+            let box_cells = cells..cells + p.box_cells();
+            cells = box_cells.end;
+            match (batches.last_mut(), batch_cells.last_mut()) {
+                (Some(b), Some(c)) if words + w <= capacity => {
                     b.end = i + 1;
+                    c.end = box_cells.end;
                     words += w;
                 }
                 _ => {
                     batches.push(i..i + 1);
+                    batch_cells.push(box_cells);
                     words = 1 + w;
                 }
             }
@@ -646,22 +663,21 @@ impl CoverPlan {
         Ok(CoverPlan {
             triangle_ranges: starts.windows(2).map(|w| w[0]..w[1]).collect(),
             batches,
+            batch_cells,
             triangles,
         })
     }
 }
 
-/// The words of the pieces `batch` of `cover`, and of their `values` (one per cell of
-/// each piece's box, see `CellCover::values`) when given, as `covered_cell` and
-/// `cell_scalar` in texture.wgsl read them.
-fn cover_words(cover: &CellCover, values: Option<&[f32]>, batch: Range<usize>) -> Result<Vec<u32>> {
-    let pieces = &cover.pieces[batch.clone()];
-    let first_cell: usize = cover.pieces[..batch.start]
-        .iter()
-        .map(|p| p.box_cells())
-        .sum();
-    let cells: usize = pieces.iter().map(|p| p.box_cells()).sum();
-    let values = values.map(|v| &v[first_cell..first_cell + cells]);
+/// The words of a batch of `pieces`, the first of which is piece `first_piece` of the
+/// cover, and of their `values` (one per cell of each piece's box, see
+/// `CellCover::values`) when given, as `covered_cell` and `cell_scalar` in texture.wgsl
+/// read them.
+fn cover_words(
+    pieces: &[CoverPiece],
+    first_piece: usize,
+    values: Option<&[f32]>,
+) -> Result<Vec<u32>> {
     let bit_words: usize = pieces.iter().map(|p| p.bits.len()).sum();
     let header = 1 + COVER_HEADER * pieces.len();
     let total = header + bit_words + values.map_or(0, <[f32]>::len);
@@ -672,7 +688,7 @@ fn cover_words(cover: &CellCover, values: Option<&[f32]>, batch: Range<usize>) -
             .ok_or_else(|| Error::Invalid(format!("a cell cover of {total} words (over 2^32)")))
     };
     let mut words = Vec::with_capacity(total);
-    words.push(word(batch.start)?);
+    words.push(word(first_piece)?);
     let mut bits = header;
     let mut first_value = bits + bit_words;
     for p in pieces {
