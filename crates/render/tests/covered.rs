@@ -162,53 +162,20 @@ fn the_cells_values_colour_a_decimated_surface_as_the_original_faces() {
     let values = cover.values(&mesh).expect("values");
     let pieces = out.pieces(&mesh, &cover);
 
-    let mut r = renderer();
-    let view = top_view(&mesh);
-    let style = Style {
-        scalar_range: Some((0.0, 4.0)),
-        background: BACKGROUND,
-        ..Style::default()
-    };
-    let flat = shaded(&mut r, &mesh.with_cell_values(), None, &view, &style);
-    let cells = CellDraw {
-        pieces: &pieces,
-        cover: &cover,
-        values: Some(&values),
-        mask: false,
-    };
-    let cells = shaded(&mut r, &out.mesh, Some(cells), &view, &style);
-    let smooth = shaded(&mut r, &out.mesh, None, &view, &style);
-
     // Compare the colour at every cell's centre, far from its lines, where the
     // decimated surface is drawn (below the outline's bound it cuts corners).
-    let proj = Projector::new(&view);
-    let background = BACKGROUND.map(|c| (c * 255.0) as u8);
-    let differing = |image: &strata_render::image::RgbaImage| {
-        let (mut compared, mut differ) = (0, 0);
-        for j in 0..CELLS {
-            for i in 0..CELLS {
-                let c = proj.to_px(Vec3::new(i as f32 * 10.0 + 5.0, j as f32 * 10.0 + 5.0, 0.0));
-                let (a, b) = (
-                    flat.get_pixel(c.x as u32, c.y as u32).0,
-                    image.get_pixel(c.x as u32, c.y as u32).0,
-                );
-                if b == background {
-                    continue;
-                }
-                compared += 1;
-                differ += usize::from((0..3).any(|k| a[k].abs_diff(b[k]) > 6));
-            }
-        }
-        (compared, differ)
-    };
-    let ((compared, with_cells), (_, interpolated)) = (differing(&cells), differing(&smooth));
+    let CellColours {
+        compared,
+        with_cells,
+        interpolated,
+        backend,
+    } = compare_cell_colours(&mesh, &out.mesh, &pieces, &cover, &values);
     eprintln!(
-        "{} -> {} triangles on {}: of {compared} cell centres drawn ({} cells), {with_cells} \
-         differ from the original's flat colour with the cells' values, {interpolated} with \
-         the vertex scalars",
+        "{} -> {} triangles on {backend}: of {compared} cell centres drawn ({} cells), \
+         {with_cells} differ from the original's flat colour with the cells' values, \
+         {interpolated} with the vertex scalars",
         mesh.triangle_count(),
         out.mesh.triangle_count(),
-        backend(&r),
         CELLS * CELLS
     );
     assert!(compared * 100 >= CELLS * CELLS * 95, "the surface is drawn");
@@ -265,63 +232,104 @@ fn a_hierarchy_selection_is_coloured_as_the_model_faces() {
     let original =
         layer_surface(&grid, 0, Face::Top, Some("PORO"), file.origin()).expect("top surface");
 
-    let mut r = renderer();
-    let view = top_view(&original);
-    let style = Style {
-        scalar_range: Some((0.0, 4.0)),
-        background: BACKGROUND,
-        ..Style::default()
-    };
-    let flat = shaded(&mut r, &original.with_cell_values(), None, &view, &style);
-    let cells = CellDraw {
-        pieces: &cover.vertex_piece,
-        cover: &cover,
-        values: Some(&values),
-        mask: false,
-    };
-    let coloured = shaded(&mut r, &drawn, Some(cells), &view, &style);
-    let smooth = shaded(&mut r, &drawn, None, &view, &style);
-    let proj = Projector::new(&view);
-    let differing = |image: &strata_render::image::RgbaImage| {
-        original
-            .cell_faces
-            .iter()
-            .filter(|face| {
-                // A parallelogram's centre: the mean of its two triangles' corners.
-                let corners = face
-                    .triangles
-                    .iter()
-                    .flat_map(|&t| original.triangles[t as usize]);
-                let centre = corners
-                    .map(|v| Vec3::from(original.positions[v as usize]))
-                    .sum::<Vec3>()
-                    / 6.0;
-                let c = proj.to_px(centre);
-                let (a, b) = (
-                    flat.get_pixel(c.x as u32, c.y as u32).0,
-                    image.get_pixel(c.x as u32, c.y as u32).0,
-                );
-                (0..3).any(|k| a[k].abs_diff(b[k]) > 6)
-            })
-            .count()
-    };
-    let (with_cells, interpolated) = (differing(&coloured), differing(&smooth));
+    let CellColours {
+        compared,
+        with_cells,
+        interpolated,
+        backend,
+    } = compare_cell_colours(&original, &drawn, &cover.vertex_piece, &cover, &values);
     eprintln!(
-        "{} triangles in {} roots of {} layer surfaces for {} on {}: {with_cells} cell centres \
-         differ from the model's flat colour with the cells' values, {interpolated} with the \
-         vertex scalars",
+        "{} triangles in {} roots of {} layer surfaces for {} on {backend}: {with_cells} cell \
+         centres differ from the model's flat colour with the cells' values, {interpolated} \
+         with the vertex scalars",
         drawn.triangle_count(),
         roots.len(),
         file.layers().len(),
         original.triangle_count(),
-        backend(&r),
     );
+    assert_eq!(compared, n * n, "every cell drawn");
     assert!(drawn.triangle_count() * 10 < 2 * original.triangle_count());
     assert_eq!(with_cells, 0, "cells coloured otherwise than the model");
     assert!(
         interpolated > n * n / 2,
         "the vertex scalars alone lose the cell pattern"
     );
+}
+
+/// How `drawn`, whose vertices lie on `pieces` of `cover` (`original`'s cells, with
+/// their `values`), colours the cells of `original` (a flat surface), seen from
+/// straight above at each cell face's centre.
+struct CellColours {
+    /// Centres where `drawn` is drawn.
+    compared: usize,
+    /// Of those, centres whose colour differs from `original`'s faces painted flat,
+    /// with `drawn` coloured by the cells' values, and by its vertex scalars alone.
+    with_cells: usize,
+    interpolated: usize,
+    backend: String,
+}
+
+fn compare_cell_colours(
+    original: &SurfaceMesh,
+    drawn: &SurfaceMesh,
+    pieces: &[u32],
+    cover: &CellCover,
+    values: &[f32],
+) -> CellColours {
+    let cells = CellDraw {
+        pieces,
+        cover,
+        values: Some(values),
+        mask: false,
+    };
+    let mut r = renderer();
+    let view = top_view(original);
+    let style = Style {
+        scalar_range: Some((0.0, 4.0)),
+        background: BACKGROUND,
+        ..Style::default()
+    };
+    let flat = shaded(&mut r, &original.with_cell_values(), None, &view, &style);
+    let coloured = shaded(&mut r, drawn, Some(cells), &view, &style);
+    let smooth = shaded(&mut r, drawn, None, &view, &style);
+    let proj = Projector::new(&view);
+    let background = BACKGROUND.map(|c| (c * 255.0) as u8);
+    // A parallelogram's centre: the mean of its two triangles' corners.
+    let centres: Vec<(u32, u32)> = original
+        .cell_faces
+        .iter()
+        .map(|face| {
+            let corners = face
+                .triangles
+                .iter()
+                .flat_map(|&t| original.triangles[t as usize]);
+            let centre = corners
+                .map(|v| Vec3::from(original.positions[v as usize]))
+                .sum::<Vec3>()
+                / 6.0;
+            let c = proj.to_px(centre);
+            (c.x as u32, c.y as u32)
+        })
+        .collect();
+    let differing = |image: &strata_render::image::RgbaImage| {
+        let (mut compared, mut differ) = (0, 0);
+        for &(x, y) in &centres {
+            let (a, b) = (flat.get_pixel(x, y).0, image.get_pixel(x, y).0);
+            if b == background {
+                continue;
+            }
+            compared += 1;
+            differ += usize::from((0..3).any(|k| a[k].abs_diff(b[k]) > 6));
+        }
+        (compared, differ)
+    };
+    let ((compared, with_cells), (_, interpolated)) = (differing(&coloured), differing(&smooth));
+    CellColours {
+        compared,
+        with_cells,
+        interpolated,
+        backend: backend(&r),
+    }
 }
 
 /// `mesh` drawn with the global wireframe, against `cells` when given.
