@@ -63,15 +63,15 @@ pub struct ViewArgs {
     zscale: f32,
     /// View: azimuth, elevation (degrees), and optionally distance as a multiple of
     /// the fitting distance.
-    #[arg(long, default_value = "30,35", value_parser = super::render::parse_view)]
+    #[arg(long, default_value = "30,35", value_parser = super::style::parse_view)]
     view: (f32, f32, f32),
     /// Image size WxH.
-    #[arg(long, default_value = "1200x900", value_parser = super::render::parse_size)]
+    #[arg(long, default_value = "1200x900", value_parser = super::style::parse_size)]
     size: (u32, u32),
     /// Wireframe technique: none, global, quad, tex, texgs (global draws the original
     /// grid on whatever level is drawn, and each cell in its own colour, as the model's
     /// faces are; with the others colours are interpolated between nodes).
-    #[arg(long, default_value = "global", value_parser = super::render::parse_wire)]
+    #[arg(long, default_value = "global", value_parser = super::style::parse_wire)]
     wire: WireMode,
     /// Output PNG; only the selection is printed when omitted.
     #[arg(short, long)]

@@ -8,6 +8,7 @@ use strata::grid::CornerPointGrid;
 pub mod info;
 pub mod lod;
 pub mod render;
+pub mod style;
 pub mod synth;
 pub mod terrain;
 

@@ -5,44 +5,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use strata::render::glam::Vec3;
-use strata::render::wgpu::DeviceType;
 use strata::render::{
-    Attenuation, Camera, Colormap, Coverage, GridLines, IsolineOptions, Isolines, RangeAdjust,
-    Renderer, Style, View, WireMode, parse_color,
+    Camera, Coverage, IsolineOptions, Isolines, RangeAdjust, Renderer, Style, View, WireMode,
 };
 use strata::scene::{SceneOptions, build};
 
-#[derive(Clone, Copy, ValueEnum)]
-enum AttenuateArg {
-    None,
-    Intensity,
-    Thickness,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum CoverageArg {
-    /// Analytic on CPU rasterizers, the texture on GPUs.
-    Auto,
-    Texture,
-    Analytic,
-}
-
-impl CoverageArg {
-    /// The form to draw with on an adapter of `device`. `strata bench wire` measured
-    /// the analytic form at 0.9-1.2 x the shaded frame on llvmpipe and lavapipe and
-    /// the texture tap at 1.25-1.7 x: a CPU rasterizer pays for every filtered fetch,
-    /// a GPU's texture units fetch nearly for free, and the texture keeps the
-    /// attenuation table and arbitrary line profiles.
-    fn resolve(self, device: DeviceType) -> Coverage {
-        match self {
-            CoverageArg::Auto if device == DeviceType::Cpu => Coverage::Analytic,
-            CoverageArg::Auto | CoverageArg::Texture => Coverage::Texture,
-            CoverageArg::Analytic => Coverage::Analytic,
-        }
-    }
-}
+use super::style::{FrameArgs, StyleArgs, layer_range, parse_layers};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -60,30 +30,8 @@ pub struct RenderArgs {
     /// Also draw the side faces: the outer shell and fault walls.
     #[arg(long)]
     sides: bool,
-    /// Wireframe technique: none, global, quad, tex, texgs, bias, dist, idbuffer.
-    #[arg(long, default_value = "global", value_parser = parse_wire)]
-    wire: WireMode,
-    /// Hidden-line style (Rossignac & van Emmerik): tehs hides hidden edges, tehd dashes
-    /// them, cehs and cehd draw contour edges only (outlines and silhouettes). bias,
-    /// dist and idbuffer draw all four; the texture techniques tehs only.
-    #[arg(long, default_value = "tehs", value_parser = parse_hidden)]
-    hidden: strata::render::HiddenLines,
-    /// Line thickness in pixels.
-    #[arg(long, default_value_t = 1.5)]
-    thickness: f32,
-    /// Line colour: #rrggbb[aa] or a name (black, white, red, ...).
-    #[arg(long, default_value = "#141414")]
-    wire_color: String,
-    /// Fade or thin lines with distance.
-    #[arg(long, value_enum, default_value = "none")]
-    attenuate: AttenuateArg,
-    /// Line coverage from the mip-mapped texture or evaluated analytically (auto:
-    /// analytic on CPU rasterizers, where it is the faster, the texture on GPUs).
-    #[arg(long, value_enum, default_value = "auto")]
-    coverage: CoverageArg,
-    /// Lines alone, in the cells' colours, without the shaded surface.
-    #[arg(long)]
-    isolation: bool,
+    #[command(flatten)]
+    style: StyleArgs,
     /// Property colouring the cells (default: PORO when the model has it).
     #[arg(long)]
     property: Option<String>,
@@ -93,19 +41,8 @@ pub struct RenderArgs {
     /// Interpolate the property between nodes instead of painting cells flat.
     #[arg(long)]
     smooth: bool,
-    /// Colour map: viridis, turbo, cividis, magma, inferno, plasma, spectral.
-    #[arg(long, default_value = "viridis")]
-    colormap: String,
-    /// Vertical exaggeration.
-    #[arg(long, default_value_t = 5.0)]
-    zscale: f32,
-    /// View: azimuth (degrees clockwise from north), elevation (degrees), and optionally
-    /// distance as a multiple of the fitting distance.
-    #[arg(long, default_value = "30,35", value_parser = parse_view)]
-    view: (f32, f32, f32),
-    /// Image size WxH.
-    #[arg(long, default_value = "1200x900", value_parser = parse_size)]
-    size: (u32, u32),
+    #[command(flatten)]
+    frame: FrameArgs,
     /// Output PNG.
     #[arg(short, long, default_value = "strata.png")]
     output: PathBuf,
@@ -118,9 +55,6 @@ pub struct RenderArgs {
     /// paper2011 (the latter moves lines: kept to show it).
     #[arg(long, default_value = "on", value_parser = parse_adjust)]
     iso_adjust: RangeAdjust,
-    /// Map grid lines: SPACING[,X0[,Y0]] in map units, through map (X0, Y0).
-    #[arg(long, value_parser = parse_grid_lines)]
-    grid_lines: Option<(f64, f64, f64)>,
     /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
     /// the decimated triangles. With global, each cell keeps its own colour (looked up
@@ -176,26 +110,6 @@ fn parse_adjust(s: &str) -> Result<RangeAdjust, String> {
     })
 }
 
-/// SPACING[,X0[,Y0]]: Y0 defaults to X0, both to 0.
-pub(crate) fn parse_grid_lines(s: &str) -> Result<(f64, f64, f64), String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}")))
-        .collect::<Result<_, _>>()?;
-    let (spacing, x0, y0) = match v.as_slice() {
-        [d] => (*d, 0.0, 0.0),
-        [d, x] => (*d, *x, *x),
-        [d, x, y] => (*d, *x, *y),
-        _ => return Err(format!("expected SPACING[,X0[,Y0]], got {s:?}")),
-    };
-    if !(spacing > 0.0 && spacing.is_finite() && x0.is_finite() && y0.is_finite()) {
-        return Err(format!(
-            "grid lines {s:?}: spacing must be positive, origin finite"
-        ));
-    }
-    Ok((spacing, x0, y0))
-}
-
 /// A round spacing (1, 2 or 5 times a power of ten) giving about `lines` lines over
 /// `range`.
 fn nice_spacing(range: f32, lines: f32) -> f32 {
@@ -208,74 +122,11 @@ fn nice_spacing(range: f32, lines: f32) -> f32 {
         .unwrap_or(10.0 * step)
 }
 
-pub(crate) fn parse_wire(s: &str) -> Result<WireMode, String> {
-    WireMode::from_name(s).ok_or_else(|| {
-        format!(
-            "unknown wire mode {s:?}; one of {}",
-            strata::render::wire_mode_names().join(", ")
-        )
-    })
-}
-
-fn parse_hidden(s: &str) -> Result<strata::render::HiddenLines, String> {
-    strata::render::HiddenLines::from_name(s)
-        .ok_or_else(|| format!("unknown hidden-line style {s:?}; one of tehs, tehd, cehs, cehd"))
-}
-
-fn parse_layers(s: &str) -> Result<(usize, usize), String> {
-    let (a, b) = s
-        .split_once("..")
-        .ok_or_else(|| format!("expected A..B, got {s:?}"))?;
-    let num = |v: &str| {
-        v.trim()
-            .parse::<usize>()
-            .ok()
-            .filter(|&n| n >= 1)
-            .ok_or_else(|| format!("{v:?} is not a 1-based layer"))
-    };
-    let (a, b) = (num(a)?, num(b)?);
-    if a > b {
-        return Err(format!("layer range {a}..{b} is empty"));
-    }
-    Ok((a, b))
-}
-
-pub(crate) fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}")))
-        .collect::<Result<_, _>>()?;
-    match v.as_slice() {
-        [az, el] => Ok((*az, *el, 1.0)),
-        [az, el, d] if *d > 0.0 => Ok((*az, *el, *d)),
-        _ => Err(format!("expected AZ,EL[,DIST] with DIST > 0, got {s:?}")),
-    }
-}
-
-pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WxH, got {s:?}"))?;
-    let dim = |v: &str| {
-        v.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|&n| (1..=16384).contains(&n))
-            .ok_or_else(|| format!("{v:?} is not a size in 1..16384"))
-    };
-    Ok((dim(w)?, dim(h)?))
-}
-
 pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
     let (_, grid) = super::open_model(args.model.as_deref(), &args.props)?;
-    let nz = grid.dims().nz;
-    let layers = match (args.layer, args.layers) {
-        (Some(k), _) if (1..=nz).contains(&k) => Some(k - 1..k),
-        (Some(k), _) => bail!("layer {k} is not within the model's 1..{nz}"),
-        (None, Some((a, b))) => Some(a - 1..b),
-        (None, None) => None,
-    };
+    let layers = layer_range(args.layer, args.layers, grid.dims().nz)?;
+    let wire = args.style.wire;
     let property = if args.no_property {
         None
     } else {
@@ -291,13 +142,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         flat_cells: !args.smooth && args.lod.is_none(),
     };
     let (mesh, range) = build(&grid, &options)?;
-    if args.cover && args.wire != WireMode::Global {
-        bail!("--cover draws with --wire global, not {}", args.wire.name());
+    if args.cover && wire != WireMode::Global {
+        bail!("--cover draws with --wire global, not {}", wire.name());
     }
-    let global = args.wire == WireMode::Global;
+    let global = wire == WireMode::Global;
     let (mesh, cells) = match args.lod {
         Some(percent) => {
-            super::lod::decimate_scene(&mesh, percent, args.zscale, args.cover, global)?
+            super::lod::decimate_scene(&mesh, percent, args.frame.zscale, args.cover, global)?
         }
         None => (mesh, None),
     };
@@ -305,7 +156,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         eprintln!(
             "note: with --wire {}, colours are interpolated between the decimated surface's \
              nodes; --wire global colours each cell as the original does",
-            args.wire.name()
+            wire.name()
         );
     }
     // Isolines need the property interpolated between nodes, whatever colours the
@@ -323,10 +174,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut renderer = Renderer::headless()?;
     let drawable = match &iso {
         Some((field, ..)) => {
-            if !matches!(args.wire, WireMode::Global | WireMode::None) {
+            if !matches!(wire, WireMode::Global | WireMode::None) {
                 bail!(
                     "--iso draws with --wire global or none, not {}",
-                    args.wire.name()
+                    wire.name()
                 );
             }
             renderer.prepare_isolines(
@@ -334,7 +185,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 Some(field),
                 IsolineOptions {
                     adjust: args.iso_adjust,
-                    wire: args.wire == WireMode::Global,
+                    wire: wire == WireMode::Global,
                 },
             )?
         }
@@ -343,54 +194,35 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 .prepare_cells(&mesh, &cells.draw())
                 .context("preparing the global wireframe over the original's cells")?,
             None => renderer
-                .prepare(&mesh, args.wire)
-                .with_context(|| format!("preparing the {} wireframe", args.wire.name()))?,
+                .prepare(&mesh, wire)
+                .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
         },
     };
     let (lo, hi) = mesh.bounds().ok_or_else(|| anyhow!("empty scene"))?;
     let bounds = (Vec3::from(lo), Vec3::from(hi));
-    let (az, el, dist) = args.view;
+    let (az, el, dist) = args.frame.view;
     let view = View {
         camera: Camera::fit_points(
             mesh.positions.iter().map(|&p| Vec3::from(p)),
-            args.zscale,
-            args.size.0 as f32 / args.size.1 as f32,
+            args.frame.zscale,
+            args.frame.size.0 as f32 / args.frame.size.1 as f32,
             (az, el),
             dist,
         ),
-        width: args.size.0,
-        height: args.size.1,
+        width: args.frame.size.0,
+        height: args.frame.size.1,
         bounds,
     };
     let style = Style {
-        thickness: args.thickness,
-        wire_color: parse_color(&args.wire_color)
-            .ok_or_else(|| anyhow!("--wire-color {:?} is not a colour", args.wire_color))?,
-        attenuation: match args.attenuate {
-            AttenuateArg::None => Attenuation::None,
-            AttenuateArg::Intensity => Attenuation::Intensity,
-            AttenuateArg::Thickness => Attenuation::Thickness,
-        },
-        coverage: args.coverage.resolve(renderer.gpu.info.device_type),
-        isolation: args.isolation,
-        hidden: args.hidden,
-        colormap: Colormap::from_name(&args.colormap)
-            .ok_or_else(|| anyhow!("unknown colour map {:?}", args.colormap))?,
-        scalar_range: range,
-        background: if args.isolation {
-            [0.0, 0.0, 0.0, 1.0]
-        } else {
-            [1.0; 4]
-        },
         isolines: iso.as_ref().map(|(_, spacing, major)| Isolines {
             major_every: *major,
             ..Isolines::new(*spacing)
         }),
-        grid_lines: args.grid_lines.map(|(spacing, x0, y0)| GridLines {
-            origin: [x0, y0],
-            ..GridLines::new(spacing, [mesh.origin[0], mesh.origin[1]])
-        }),
-        ..Style::default()
+        ..args.style.style(
+            renderer.gpu.info.device_type,
+            range,
+            [mesh.origin[0], mesh.origin[1]],
+        )?
     };
     let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
     strata::render::save_png(&image, &args.output)?;
@@ -398,7 +230,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         "{}: {} triangles, {} wireframe ({} coverage), {}; model read in {:.2} s, frame in {:.2} s on {}",
         args.output.display(),
         mesh.triangle_count(),
-        args.wire.name(),
+        wire.name(),
         match style.coverage {
             Coverage::Texture => "texture",
             Coverage::Analytic => "analytic",
@@ -456,22 +288,4 @@ fn isoline_field(
         );
     }
     Ok((field, range))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn auto_coverage_is_analytic_on_cpu_rasterizers_only() {
-        use DeviceType::{Cpu, DiscreteGpu, IntegratedGpu};
-        assert_eq!(CoverageArg::Auto.resolve(Cpu), Coverage::Analytic);
-        assert_eq!(CoverageArg::Auto.resolve(DiscreteGpu), Coverage::Texture);
-        assert_eq!(CoverageArg::Auto.resolve(IntegratedGpu), Coverage::Texture);
-        assert_eq!(CoverageArg::Texture.resolve(Cpu), Coverage::Texture);
-        assert_eq!(
-            CoverageArg::Analytic.resolve(DiscreteGpu),
-            Coverage::Analytic
-        );
-    }
 }

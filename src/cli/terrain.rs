@@ -13,7 +13,7 @@ use strata::render::{
     WireMode,
 };
 
-use super::render::{parse_grid_lines, parse_size, parse_view};
+use super::style::{parse_grid_lines, parse_size, parse_view};
 
 #[derive(Args)]
 pub struct TerrainArgs {

@@ -1,0 +1,259 @@
+//! The frame and line-style options that `strata render` and `strata lod view` share,
+//! so a hierarchy is drawn exactly as the model it was built from.
+
+use anyhow::{Result, anyhow};
+use clap::{Args, ValueEnum};
+use strata::render::wgpu::DeviceType;
+use strata::render::{
+    Attenuation, Colormap, Coverage, GridLines, HiddenLines, Style, WireMode, parse_color,
+};
+
+#[derive(Clone, Copy, ValueEnum)]
+enum AttenuateArg {
+    None,
+    Intensity,
+    Thickness,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+pub(crate) enum CoverageArg {
+    /// Analytic on CPU rasterizers, the texture on GPUs.
+    Auto,
+    Texture,
+    Analytic,
+}
+
+impl CoverageArg {
+    /// The form to draw with on an adapter of `device`. `strata bench wire` measured
+    /// the analytic form at 0.9-1.2 x the shaded frame on llvmpipe and lavapipe and
+    /// the texture tap at 1.25-1.7 x: a CPU rasterizer pays for every filtered fetch,
+    /// a GPU's texture units fetch nearly for free, and the texture keeps the
+    /// attenuation table and arbitrary line profiles.
+    pub(crate) fn resolve(self, device: DeviceType) -> Coverage {
+        match self {
+            CoverageArg::Auto if device == DeviceType::Cpu => Coverage::Analytic,
+            CoverageArg::Auto | CoverageArg::Texture => Coverage::Texture,
+            CoverageArg::Analytic => Coverage::Analytic,
+        }
+    }
+}
+
+/// Where the camera looks from and the picture's size.
+#[derive(Args)]
+pub struct FrameArgs {
+    /// Vertical exaggeration.
+    #[arg(long, default_value_t = 5.0)]
+    pub zscale: f32,
+    /// View: azimuth (degrees clockwise from north), elevation (degrees), and optionally
+    /// distance as a multiple of the fitting distance.
+    #[arg(long, default_value = "30,35", value_parser = parse_view)]
+    pub view: (f32, f32, f32),
+    /// Image size WxH.
+    #[arg(long, default_value = "1200x900", value_parser = parse_size)]
+    pub size: (u32, u32),
+}
+
+/// How lines and surfaces look.
+#[derive(Args)]
+pub struct StyleArgs {
+    /// Wireframe technique: none, global, quad, tex, texgs, bias, dist, idbuffer.
+    #[arg(long, default_value = "global", value_parser = parse_wire)]
+    pub wire: WireMode,
+    /// Hidden-line style (Rossignac & van Emmerik): tehs hides hidden edges, tehd dashes
+    /// them, cehs and cehd draw contour edges only (outlines and silhouettes). bias,
+    /// dist and idbuffer draw all four; the texture techniques tehs only.
+    #[arg(long, default_value = "tehs", value_parser = parse_hidden)]
+    hidden: HiddenLines,
+    /// Line thickness in pixels.
+    #[arg(long, default_value_t = 1.5)]
+    thickness: f32,
+    /// Line colour: #rrggbb[aa] or a name (black, white, red, ...).
+    #[arg(long, default_value = "#141414")]
+    wire_color: String,
+    /// Fade or thin lines with distance.
+    #[arg(long, value_enum, default_value = "none")]
+    attenuate: AttenuateArg,
+    /// Line coverage from the mip-mapped texture or evaluated analytically (auto:
+    /// analytic on CPU rasterizers, where it is the faster, the texture on GPUs).
+    #[arg(long, value_enum, default_value = "auto")]
+    coverage: CoverageArg,
+    /// Lines alone, in the cells' colours, without the shaded surface.
+    #[arg(long)]
+    pub isolation: bool,
+    /// Colour map: viridis, turbo, cividis, magma, inferno, plasma, spectral.
+    #[arg(long, default_value = "viridis")]
+    colormap: String,
+    /// Map grid lines: SPACING[,X0[,Y0]] in map units, through map (X0, Y0).
+    #[arg(long, value_parser = parse_grid_lines)]
+    grid_lines: Option<(f64, f64, f64)>,
+}
+
+impl StyleArgs {
+    /// The style these options ask for on an adapter of `device`, colouring
+    /// `scalar_range` (a solid colour when `None`), for meshes whose display frame
+    /// starts at map `display_origin`. No isolines: only `strata render` has them.
+    pub fn style(
+        &self,
+        device: DeviceType,
+        scalar_range: Option<(f32, f32)>,
+        display_origin: [f64; 2],
+    ) -> Result<Style> {
+        Ok(Style {
+            thickness: self.thickness,
+            wire_color: parse_color(&self.wire_color)
+                .ok_or_else(|| anyhow!("--wire-color {:?} is not a colour", self.wire_color))?,
+            attenuation: match self.attenuate {
+                AttenuateArg::None => Attenuation::None,
+                AttenuateArg::Intensity => Attenuation::Intensity,
+                AttenuateArg::Thickness => Attenuation::Thickness,
+            },
+            coverage: self.coverage.resolve(device),
+            isolation: self.isolation,
+            hidden: self.hidden,
+            colormap: Colormap::from_name(&self.colormap)
+                .ok_or_else(|| anyhow!("unknown colour map {:?}", self.colormap))?,
+            scalar_range,
+            background: if self.isolation {
+                [0.0, 0.0, 0.0, 1.0]
+            } else {
+                [1.0; 4]
+            },
+            grid_lines: self.grid_lines.map(|(spacing, x0, y0)| GridLines {
+                origin: [x0, y0],
+                ..GridLines::new(spacing, display_origin)
+            }),
+            ..Style::default()
+        })
+    }
+}
+
+/// SPACING[,X0[,Y0]]: Y0 defaults to X0, both to 0.
+pub(crate) fn parse_grid_lines(s: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}")))
+        .collect::<Result<_, _>>()?;
+    let (spacing, x0, y0) = match v.as_slice() {
+        [d] => (*d, 0.0, 0.0),
+        [d, x] => (*d, *x, *x),
+        [d, x, y] => (*d, *x, *y),
+        _ => return Err(format!("expected SPACING[,X0[,Y0]], got {s:?}")),
+    };
+    if !(spacing > 0.0 && spacing.is_finite() && x0.is_finite() && y0.is_finite()) {
+        return Err(format!(
+            "grid lines {s:?}: spacing must be positive, origin finite"
+        ));
+    }
+    Ok((spacing, x0, y0))
+}
+
+pub(crate) fn parse_wire(s: &str) -> Result<WireMode, String> {
+    WireMode::from_name(s).ok_or_else(|| {
+        format!(
+            "unknown wire mode {s:?}; one of {}",
+            strata::render::wire_mode_names().join(", ")
+        )
+    })
+}
+
+fn parse_hidden(s: &str) -> Result<HiddenLines, String> {
+    HiddenLines::from_name(s)
+        .ok_or_else(|| format!("unknown hidden-line style {s:?}; one of tehs, tehd, cehs, cehd"))
+}
+
+/// A 1-based inclusive range of layers, A..B.
+pub(crate) fn parse_layers(s: &str) -> Result<(usize, usize), String> {
+    let (a, b) = s
+        .split_once("..")
+        .ok_or_else(|| format!("expected A..B, got {s:?}"))?;
+    let num = |v: &str| {
+        v.trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&n| n >= 1)
+            .ok_or_else(|| format!("{v:?} is not a 1-based layer"))
+    };
+    let (a, b) = (num(a)?, num(b)?);
+    if a > b {
+        return Err(format!("layer range {a}..{b} is empty"));
+    }
+    Ok((a, b))
+}
+
+/// `--layer K` or `--layers A..B` of a model of `nz` layers, as 0-based layers (end
+/// exclusive); `None` for all.
+pub(crate) fn layer_range(
+    layer: Option<usize>,
+    layers: Option<(usize, usize)>,
+    nz: usize,
+) -> Result<Option<std::ops::Range<usize>>> {
+    match (layer, layers) {
+        (Some(k), _) if (1..=nz).contains(&k) => Ok(Some(k - 1..k)),
+        (Some(k), _) => Err(anyhow!("layer {k} is not within the model's 1..{nz}")),
+        (None, Some((a, b))) if b <= nz => Ok(Some(a - 1..b)),
+        (None, Some((a, b))) => Err(anyhow!(
+            "layers {a}..{b} are not within the model's 1..{nz}"
+        )),
+        (None, None) => Ok(None),
+    }
+}
+
+pub(crate) fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}")))
+        .collect::<Result<_, _>>()?;
+    match v.as_slice() {
+        [az, el] => Ok((*az, *el, 1.0)),
+        [az, el, d] if *d > 0.0 => Ok((*az, *el, *d)),
+        _ => Err(format!("expected AZ,EL[,DIST] with DIST > 0, got {s:?}")),
+    }
+}
+
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, got {s:?}"))?;
+    let dim = |v: &str| {
+        v.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|&n| (1..=16384).contains(&n))
+            .ok_or_else(|| format!("{v:?} is not a size in 1..16384"))
+    };
+    Ok((dim(w)?, dim(h)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn auto_coverage_is_analytic_on_cpu_rasterizers_only() {
+        use DeviceType::{Cpu, DiscreteGpu, IntegratedGpu};
+        assert_eq!(CoverageArg::Auto.resolve(Cpu), Coverage::Analytic);
+        assert_eq!(CoverageArg::Auto.resolve(DiscreteGpu), Coverage::Texture);
+        assert_eq!(CoverageArg::Auto.resolve(IntegratedGpu), Coverage::Texture);
+        assert_eq!(CoverageArg::Texture.resolve(Cpu), Coverage::Texture);
+        assert_eq!(
+            CoverageArg::Analytic.resolve(DiscreteGpu),
+            Coverage::Analytic
+        );
+    }
+
+    #[test]
+    fn layer_options_become_zero_based_ranges_within_the_model() {
+        assert_eq!(layer_range(Some(3), None, 5).ok(), Some(Some(2..3)));
+        assert_eq!(layer_range(None, Some((2, 5)), 5).ok(), Some(Some(1..5)));
+        assert_eq!(layer_range(None, None, 5).ok(), Some(None));
+        let err = |r: Result<_>| r.err().map(|e| e.to_string()).unwrap_or_default();
+        assert_eq!(
+            err(layer_range(Some(6), None, 5)),
+            "layer 6 is not within the model's 1..5"
+        );
+        assert_eq!(
+            err(layer_range(None, Some((4, 6)), 5)),
+            "layers 4..6 are not within the model's 1..5"
+        );
+    }
+}
