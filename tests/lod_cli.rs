@@ -284,3 +284,118 @@ fn render_lod_says_that_only_the_global_wireframe_colours_by_cell() {
     let global = render("global");
     assert!(!global.contains("interpolated between"), "{global}");
 }
+
+/// The word after `after` in what a command printed (e.g. a colour range).
+fn word_after(printed: &str, after: &str) -> Option<String> {
+    let at = printed.find(after)? + after.len();
+    printed[at..]
+        .split([' ', ';', '\n', ','])
+        .find(|w| !w.is_empty())
+        .map(str::to_string)
+}
+
+#[test]
+fn the_hierarchy_view_takes_the_render_style_and_a_layer_range() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let lod = dir.path().join("sample.lod");
+    let lod_s = lod.to_str().expect("a UTF-8 path");
+    let sample = sample();
+    let built = strata(&[
+        "lod",
+        "build",
+        sample.to_str().expect("a UTF-8 path"),
+        "-o",
+        lod_s,
+    ]);
+    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    let view = |name: &str, options: &[&str]| -> (String, image::RgbaImage) {
+        let png = dir.path().join(format!("{name}.png"));
+        let mut args = vec![
+            "lod",
+            "view",
+            lod_s,
+            "--size",
+            "400x300",
+            "-o",
+            png.to_str().expect("a UTF-8 path"),
+        ];
+        args.extend_from_slice(options);
+        let out = strata(&args);
+        assert!(
+            out.status.success(),
+            "lod view {options:?}: {}",
+            stderr(&out)
+        );
+        let picture = image::open(&png).expect("the view wrote a PNG").to_rgba8();
+        (stderr(&out), picture)
+    };
+    let count = |picture: &image::RgbaImage, pick: &dyn Fn([u8; 4]) -> bool| {
+        picture.pixels().filter(|p| pick(p.0)).count()
+    };
+    let frame = 400 * 300;
+
+    // A layer: its top surface, coloured over its own cells' range, as `render
+    // --layer` colours it; the sample's 6 layers make 7 surfaces.
+    let (whole, _) = view("whole", &[]);
+    let (layer, _) = view("layer", &["--layer", "2"]);
+    let rendered = render_sample(&dir.path().join("render.png"), "400x300", &["--layer", "2"]);
+    let layer_range = word_after(&layer, "cell range ");
+    eprintln!("{layer}\n{rendered}");
+    assert!(layer.contains("1 of 7 layer surfaces drawn"), "{layer}");
+    assert!(
+        layer_range.is_some() && layer_range == word_after(&rendered, "PORO "),
+        "lod view --layer 2: {layer}\nrender --layer 2: {rendered}"
+    );
+    assert_ne!(layer_range, word_after(&whole, "cell range "), "{whole}");
+    let (last, _) = view("last", &["--layers", "5..6"]);
+    assert!(last.contains("3 of 7 layer surfaces drawn"), "{last}");
+    let beyond = strata(&["lod", "view", lod_s, "--layer", "9"]);
+    assert!(!beyond.status.success());
+    assert!(
+        stderr(&beyond).contains("layer 9 is not within the model's 1..6"),
+        "{}",
+        stderr(&beyond)
+    );
+
+    // Lines alone on black, in the cells' colours, as wide as asked (at 400 x 300 the
+    // sample's cells are a few pixels across, so wide lines overlap: not 4 times).
+    let lit = |p: [u8; 4]| p[0].max(p[1]).max(p[2]) > 40;
+    let (_, thin) = view("thin", &["--isolation", "--thickness", "1"]);
+    let (_, thick) = view("thick", &["--isolation", "--thickness", "4"]);
+    let (thin_lines, thick_lines) = (count(&thin, &lit), count(&thick, &lit));
+    eprintln!("isolation: {thin_lines} line pixels at 1 px, {thick_lines} at 4 px");
+    assert_eq!(
+        thin.get_pixel(0, 0).0,
+        [0, 0, 0, 255],
+        "the background is black"
+    );
+    assert!(thin_lines > frame / 100, "{thin_lines} line pixels");
+    assert!(
+        thick_lines as f64 > 1.4 * thin_lines as f64,
+        "{thick_lines} line pixels at 4 px against {thin_lines} at 1 px"
+    );
+
+    // The line colour (viridis has no red).
+    let red = |p: [u8; 4]| p[0] > 200 && p[1] < 60 && p[2] < 60;
+    let (_, plain) = view("plain", &[]);
+    let (_, reddened) = view("red", &["--wire-color", "red"]);
+    let (plain_red, red_lines) = (count(&plain, &red), count(&reddened, &red));
+    eprintln!("wire colour: {plain_red} red pixels by default, {red_lines} with red lines");
+    assert_eq!(plain_red, 0);
+    assert!(red_lines > frame / 100, "{red_lines} red pixels");
+
+    // Map grid lines cross the surfaces (every 333 m, off the sample's 50 m rows).
+    let luma = |p: [u8; 4]| 0.3 * f64::from(p[0]) + 0.59 * f64::from(p[1]) + 0.11 * f64::from(p[2]);
+    let (_, bare) = view("bare", &["--wire", "none"]);
+    let (_, gridded) = view("grid", &["--wire", "none", "--grid-lines", "333,10"]);
+    let darker = bare
+        .pixels()
+        .zip(gridded.pixels())
+        .filter(|(a, b)| luma(a.0) - luma(b.0) > 40.0)
+        .count();
+    eprintln!("grid lines: {darker} pixels darkened");
+    assert!(
+        darker > frame / 200,
+        "{darker} pixels darkened by grid lines"
+    );
+}

@@ -11,15 +11,20 @@ use strata::lod::{
     BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
 };
 use strata::render::glam::Vec3;
-use strata::render::{Camera, CellDraw, Renderer, Style, View, WireMode};
+use strata::render::{Camera, CellDraw, Renderer, View, WireMode};
 use strata::scene::colour_range;
+
+use super::style::{FrameArgs, StyleArgs, layer_range, parse_layers};
 
 #[derive(Subcommand)]
 pub enum LodCommand {
     /// Build the hierarchy of every layer surface of a model (on all cores) and save it.
     Build(BuildArgs),
     /// Open a saved hierarchy (memory mapped), choose the nodes a view needs for a
-    /// given pixel error, print what was chosen, and draw it to a PNG.
+    /// given pixel error, print what was chosen, and draw it to a PNG with the lines
+    /// and colours of `strata render`. With --wire global the original grid is drawn
+    /// on whatever level is chosen, each cell in its own colour as the model's faces
+    /// are; with the others colours are interpolated between nodes.
     View(ViewArgs),
 }
 
@@ -58,21 +63,18 @@ pub struct ViewArgs {
     /// Largest projected error of a chosen node, in pixels.
     #[arg(long, default_value_t = 1.0)]
     pixels: f32,
-    /// Vertical exaggeration.
-    #[arg(long, default_value_t = 5.0)]
-    zscale: f32,
-    /// View: azimuth, elevation (degrees), and optionally distance as a multiple of
-    /// the fitting distance.
-    #[arg(long, default_value = "30,35", value_parser = super::style::parse_view)]
-    view: (f32, f32, f32),
-    /// Image size WxH.
-    #[arg(long, default_value = "1200x900", value_parser = super::style::parse_size)]
-    size: (u32, u32),
-    /// Wireframe technique: none, global, quad, tex, texgs (global draws the original
-    /// grid on whatever level is drawn, and each cell in its own colour, as the model's
-    /// faces are; with the others colours are interpolated between nodes).
-    #[arg(long, default_value = "global", value_parser = super::style::parse_wire)]
-    wire: WireMode,
+    /// One layer, 1-based: its top surface (and the model's bottom with the last
+    /// layer), which the hierarchy stores.
+    #[arg(long, conflicts_with = "layers")]
+    layer: Option<usize>,
+    /// A range of layers, 1-based and inclusive: A..B, their top surfaces (and the
+    /// model's bottom with the last layer).
+    #[arg(long, value_parser = parse_layers)]
+    layers: Option<(usize, usize)>,
+    #[command(flatten)]
+    style: StyleArgs,
+    #[command(flatten)]
+    frame: FrameArgs,
     /// Output PNG; only the selection is printed when omitted.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -147,11 +149,24 @@ fn build(args: &BuildArgs) -> Result<()> {
 fn view(args: &ViewArgs) -> Result<()> {
     let start = Instant::now();
     let file = LodFile::open(&args.file)?;
-    // Frame the roots, which cover the model.
-    let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
-    if roots.is_empty() {
+    let nz = file.layers().iter().map(|l| l.k as usize + 1).max();
+    let Some(nz) = nz else {
         bail!("{}: no layer surface", args.file.display());
-    }
+    };
+    let layers = layer_range(args.layer, args.layers, nz)?;
+    let drawn: Vec<bool> = file
+        .layers()
+        .iter()
+        .map(|l| layers.as_ref().is_none_or(|r| r.contains(&(l.k as usize))))
+        .collect();
+    // Frame the drawn surfaces' roots, which cover them.
+    let roots: Vec<u32> = file
+        .layers()
+        .iter()
+        .zip(&drawn)
+        .filter(|(_, d)| **d)
+        .map(|(l, _)| l.root)
+        .collect();
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for &r in &roots {
         let n = &file.nodes()[r as usize];
@@ -161,29 +176,29 @@ fn view(args: &ViewArgs) -> Result<()> {
         }
     }
     let bounds = (Vec3::from(lo), Vec3::from(hi));
-    let (az, el, dist) = args.view;
+    let frame = &args.frame;
+    let (az, el, dist) = frame.view;
     // The roots' vertices, not their boxes, frame the model: a grid rotated in map
     // coordinates fills a fraction of its box.
     let root_vertices = || roots.iter().flat_map(|&r| file.vertices(r as usize));
     let camera = Camera::fit_points(
         root_vertices().map(|v| Vec3::from(v.position)),
-        args.zscale,
-        args.size.0 as f32 / args.size.1 as f32,
+        frame.zscale,
+        frame.size.0 as f32 / frame.size.1 as f32,
         (az, el),
         dist,
     );
-    // Colours span the property's cell range, as in `strata render`, whatever the view
-    // selects.
-    let scalar_range = file
-        .scalar_range()
-        .and_then(|(lo, hi)| colour_range([lo, hi]));
     let point = ViewPoint {
         eye: camera.eye.to_array(),
-        z_scale: args.zscale,
+        z_scale: frame.zscale,
         fov_y_deg: camera.fov_y_deg,
-        height_px: args.size.1,
+        height_px: frame.size.1,
     };
-    let chosen = file.select(&point, args.pixels);
+    let chosen: Vec<u32> = file
+        .select(&point, args.pixels)
+        .into_iter()
+        .filter(|&i| drawn[file.nodes()[i as usize].layer as usize])
+        .collect();
     let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
     for &i in &chosen {
         let n = &file.nodes()[i as usize];
@@ -194,75 +209,102 @@ fn view(args: &ViewArgs) -> Result<()> {
     let all: usize = file
         .nodes()
         .iter()
-        .filter(|n| n.level == 0)
+        .filter(|n| n.level == 0 && drawn[n.layer as usize])
         .map(|n| n.index_count as usize / 3)
         .sum();
-    let drawn: usize = per_level.values().map(|v| v.1).sum();
+    let drawn_triangles: usize = per_level.values().map(|v| v.1).sum();
     eprintln!(
-        "{}: {} nodes; at most {} px from this view: {} nodes, {drawn} of {all} full-resolution \
-         triangles ({:.1} %), chosen in {:.3} s",
+        "{}: {} nodes; {} of {} layer surfaces drawn; at most {} px from this view: {} nodes, \
+         {drawn_triangles} of {all} full-resolution triangles ({:.1} %), chosen in {:.3} s",
         args.file.display(),
         file.nodes().len(),
+        roots.len(),
+        file.layers().len(),
         args.pixels,
         chosen.len(),
-        100.0 * drawn as f64 / all.max(1) as f64,
+        100.0 * drawn_triangles as f64 / all.max(1) as f64,
         start.elapsed().as_secs_f64()
     );
     for (level, (nodes, tris)) in &per_level {
         eprintln!("  level {level}: {nodes} nodes, {tris} triangles");
     }
-    if let Some(output) = &args.output {
-        let mesh = file.selection_mesh(&chosen)?;
-        let mut renderer = Renderer::headless()?;
-        let cells = if args.wire == WireMode::Global {
-            file.selection_cells(&chosen)?
-        } else {
-            None
-        };
-        let drawable = match &cells {
-            Some((cover, values)) => renderer
-                .prepare_cells(
-                    &mesh,
-                    &CellDraw {
-                        pieces: &cover.vertex_piece,
-                        cover,
-                        values: Some(values),
-                        mask: false,
-                    },
-                )
-                .context("preparing the selection over the model's cells")?,
-            None => renderer.prepare(&mesh, args.wire)?,
-        };
-        let view = View {
-            camera,
-            width: args.size.0,
-            height: args.size.1,
-            bounds,
-        };
-        let style = Style {
-            scalar_range,
-            ..Style::default()
-        };
-        let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
-        strata::render::save_png(&image, output)?;
-        eprintln!(
-            "{}: drawn with the {} wireframe, {}",
-            output.display(),
-            args.wire.name(),
-            match scalar_range {
-                None => "no scalar".to_string(),
-                Some((a, b)) => format!(
-                    "coloured {} over the property's cell range {a:.4}..{b:.4}",
-                    if cells.is_some() {
-                        "cell by cell"
-                    } else {
-                        "by values interpolated between nodes"
-                    }
-                ),
-            }
-        );
+    let Some(output) = &args.output else {
+        return Ok(());
+    };
+    // Colours span the property's range over the drawn layers' cells, as in
+    // `strata render`, whatever the view selects.
+    let scalar_range = match &layers {
+        None => file.scalar_range(),
+        Some(_) => drawn_range(&file, &drawn),
     }
+    .and_then(|(lo, hi)| colour_range([lo, hi]));
+    let mesh = file.selection_mesh(&chosen)?;
+    let wire = args.style.wire;
+    let mut renderer = Renderer::headless()?;
+    let cells = if wire == WireMode::Global {
+        file.selection_cells(&chosen)?
+    } else {
+        None
+    };
+    let drawable = match &cells {
+        Some((cover, values)) => renderer
+            .prepare_cells(
+                &mesh,
+                &CellDraw {
+                    pieces: &cover.vertex_piece,
+                    cover,
+                    values: Some(values),
+                    mask: false,
+                },
+            )
+            .context("preparing the selection over the model's cells")?,
+        None => renderer.prepare(&mesh, wire)?,
+    };
+    let view = View {
+        camera,
+        width: frame.size.0,
+        height: frame.size.1,
+        bounds,
+    };
+    let style = args.style.style(
+        renderer.gpu.info.device_type,
+        scalar_range,
+        [mesh.origin[0], mesh.origin[1]],
+    )?;
+    let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
+    strata::render::save_png(&image, output)?;
+    eprintln!(
+        "{}: drawn with the {} wireframe, {}",
+        output.display(),
+        wire.name(),
+        match scalar_range {
+            None => "no scalar".to_string(),
+            Some((a, b)) => format!(
+                "coloured {} over the property's cell range {a:.4}..{b:.4}",
+                if cells.is_some() {
+                    "cell by cell"
+                } else {
+                    "by values interpolated between nodes"
+                }
+            ),
+        }
+    );
     Ok(())
+}
+
+/// The smallest and largest finite value of the property over the cells of the layer
+/// surfaces marked `drawn`; `None` without a property or a finite value there.
+fn drawn_range(file: &LodFile, drawn: &[bool]) -> Option<(f32, f32)> {
+    let mut range = (f32::INFINITY, f32::NEG_INFINITY);
+    for (l, _) in drawn.iter().enumerate().filter(|(_, d)| **d) {
+        let (faces, values) = file.layer_cells(l)?;
+        for (c, &v) in values.iter().enumerate() {
+            if faces[c / 32] >> (c % 32) & 1 != 0 && v.is_finite() {
+                range = (range.0.min(v), range.1.max(v));
+            }
+        }
+    }
+    (range.0 <= range.1).then_some(range)
 }
 
 /// What the renderer needs to draw a decimated scene against the input's cells
