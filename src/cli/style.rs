@@ -16,7 +16,7 @@ enum AttenuateArg {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-pub(crate) enum CoverageArg {
+enum CoverageArg {
     /// Analytic on CPU rasterizers, the texture on GPUs.
     Auto,
     Texture,
@@ -29,7 +29,7 @@ impl CoverageArg {
     /// the texture tap at 1.25-1.7 x: a CPU rasterizer pays for every filtered fetch,
     /// a GPU's texture units fetch nearly for free, and the texture keeps the
     /// attenuation table and arbitrary line profiles.
-    pub(crate) fn resolve(self, device: DeviceType) -> Coverage {
+    fn resolve(self, device: DeviceType) -> Coverage {
         match self {
             CoverageArg::Auto if device == DeviceType::Cpu => Coverage::Analytic,
             CoverageArg::Auto | CoverageArg::Texture => Coverage::Texture,
@@ -79,7 +79,7 @@ pub struct StyleArgs {
     coverage: CoverageArg,
     /// Lines alone, in the cells' colours, without the shaded surface.
     #[arg(long)]
-    pub isolation: bool,
+    isolation: bool,
     /// Colour map: viridis, turbo, cividis, magma, inferno, plasma, spectral.
     #[arg(long, default_value = "viridis")]
     colormap: String,
@@ -147,7 +147,7 @@ pub(crate) fn parse_grid_lines(s: &str) -> Result<(f64, f64, f64), String> {
     Ok((spacing, x0, y0))
 }
 
-pub(crate) fn parse_wire(s: &str) -> Result<WireMode, String> {
+fn parse_wire(s: &str) -> Result<WireMode, String> {
     WireMode::from_name(s).ok_or_else(|| {
         format!(
             "unknown wire mode {s:?}; one of {}",
