@@ -108,15 +108,7 @@ fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
     );
     // The property's range over the cells, which `render` prints too: the vertices
     // carry averages over cells, whose range is narrower.
-    let range = |printed: &str, after: &str| {
-        let at = printed.find(after)? + after.len();
-        let words = printed[at..].split([' ', ';', '\n', ',']);
-        words
-            .map(str::trim)
-            .find(|w| !w.is_empty())
-            .map(str::to_string)
-    };
-    let viewed_range = range(&printed, "cell range ");
+    let viewed_range = word_after(&printed, "cell range ");
     // The cells' colours themselves are measured in strata-render's tests/covered.rs.
     assert!(printed.contains("coloured cell by cell"), "{printed}");
     assert!(model > 400 * 300 / 5, "{model} model pixels");
@@ -140,7 +132,7 @@ fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
         png.to_str().expect("a UTF-8 path"),
     ]);
     assert!(rendered.status.success(), "render: {}", stderr(&rendered));
-    let rendered_range = range(&stderr(&rendered), "MARK ");
+    let rendered_range = word_after(&stderr(&rendered), "MARK ");
     assert!(
         viewed_range.is_some() && viewed_range == rendered_range,
         "lod view coloured over {viewed_range:?}, render over {rendered_range:?}: {printed}"

@@ -234,10 +234,11 @@ fn view(args: &ViewArgs) -> Result<()> {
     // Colours span the property's range over the drawn layers' cells, as in
     // `strata render`, whatever the view selects.
     let scalar_range = match &layers {
-        None => file.scalar_range(),
-        Some(_) => drawn_range(&file, &drawn),
-    }
-    .and_then(|(lo, hi)| colour_range([lo, hi]));
+        None => file
+            .scalar_range()
+            .and_then(|(lo, hi)| colour_range([lo, hi])),
+        Some(_) => colour_range(drawn_values(&file, &drawn)),
+    };
     let mesh = file.selection_mesh(&chosen)?;
     let wire = args.style.wire;
     let mut renderer = Renderer::headless()?;
@@ -292,19 +293,21 @@ fn view(args: &ViewArgs) -> Result<()> {
     Ok(())
 }
 
-/// The smallest and largest finite value of the property over the cells of the layer
-/// surfaces marked `drawn`; `None` without a property or a finite value there.
-fn drawn_range(file: &LodFile, drawn: &[bool]) -> Option<(f32, f32)> {
-    let mut range = (f32::INFINITY, f32::NEG_INFINITY);
-    for (l, _) in drawn.iter().enumerate().filter(|(_, d)| **d) {
-        let (faces, values) = file.layer_cells(l)?;
-        for (c, &v) in values.iter().enumerate() {
-            if faces[c / 32] >> (c % 32) & 1 != 0 && v.is_finite() {
-                range = (range.0.min(v), range.1.max(v));
-            }
-        }
-    }
-    (range.0 <= range.1).then_some(range)
+/// The property's values on the cells of the layer surfaces marked `drawn` (none
+/// without a property).
+fn drawn_values<'f>(file: &'f LodFile, drawn: &'f [bool]) -> impl Iterator<Item = f32> + 'f {
+    drawn
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| **d)
+        .filter_map(|(l, _)| file.layer_cells(l))
+        .flat_map(|(faces, values)| {
+            values
+                .iter()
+                .enumerate()
+                .filter(|(c, _)| faces[c / 32] >> (c % 32) & 1 != 0)
+                .map(|(_, v)| *v)
+        })
 }
 
 /// What the renderer needs to draw a decimated scene against the input's cells
