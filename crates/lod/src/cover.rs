@@ -33,13 +33,18 @@ impl CoverPiece {
 
     /// Does this piece cover `cell`?
     pub fn covers(&self, cell: [i32; 2]) -> bool {
+        self.slot(cell)
+            .is_some_and(|bit| self.bits[bit / 32] >> (bit % 32) & 1 != 0)
+    }
+
+    /// The place of `cell` in the box, row by row; `None` outside it.
+    pub fn slot(&self, cell: [i32; 2]) -> Option<usize> {
         let x = i64::from(cell[0]) - i64::from(self.origin[0]);
         let y = i64::from(cell[1]) - i64::from(self.origin[1]);
         if x < 0 || y < 0 || x >= i64::from(self.size[0]) || y >= i64::from(self.size[1]) {
-            return false;
+            return None;
         }
-        let bit = (y * i64::from(self.size[0]) + x) as usize;
-        self.bits[bit / 32] >> (bit % 32) & 1 != 0
+        Some((y * i64::from(self.size[0]) + x) as usize)
     }
 }
 
@@ -61,6 +66,30 @@ pub fn cell_of(uv: [f64; 2]) -> [i32; 2] {
 /// The cell whose square holds the centre of the triangle of texture coordinates `uv`.
 fn centre_cell(uv: [[f64; 2]; 3]) -> [i32; 2] {
     cell_of([0, 1].map(|k| (uv[0][k] + uv[1][k] + uv[2][k]) / 3.0))
+}
+
+/// The cell of a triangle of texture coordinates `uv` and, per vertex, the corner of
+/// the cell's square it is at: 0 (0, 0), 1 (1, 0), 2 (1, 1), 3 (0, 1). `None` unless
+/// the triangle is a half of its cell split along the (0, 0)-(1, 1) diagonal, as every
+/// strata-grid surface's cell faces are.
+pub(crate) fn cell_corners(uv: [[f32; 2]; 3]) -> Option<([i32; 2], [usize; 3])> {
+    let uv = uv.map(|p| p.map(f64::from));
+    let cell = centre_cell(uv);
+    let lo = cell.map(|c| 2.0 * f64::from(c) + 1.0);
+    let mut corners = [0; 3];
+    for (corner, p) in corners.iter_mut().zip(uv) {
+        let at = [0, 1].map(|k| (p[k] - lo[k]) * 0.5);
+        *corner = match at.map(|a| a.round() as i32) {
+            [0, 0] => 0,
+            [1, 0] => 1,
+            [1, 1] => 2,
+            [0, 1] => 3,
+            _ => return None,
+        };
+    }
+    let mut sorted = corners;
+    sorted.sort_unstable();
+    matches!(sorted, [0, 1, 2] | [0, 2, 3]).then_some((cell, corners))
 }
 
 impl CellCover {
@@ -178,6 +207,59 @@ impl CellCover {
             values[slot] = face.value;
         }
         Ok(values)
+    }
+
+    /// The vertex scalars of `mesh`, the surface this cover was made of, at the four
+    /// corners of every cell of every piece's box (in the order of [`Self::values`]),
+    /// each cell's corners at texture-space offsets (0, 0), (1, 0), (1, 1), (0, 1) of
+    /// its square; NaN where the piece covers no face. With them a renderer evaluates
+    /// the original's piecewise-linear field anywhere on a simplified surface from its
+    /// texture coordinates, so that isolines stay where the original draws them, as the
+    /// grid lines do. Each cell must be split along its (0, 0)-(1, 1) diagonal, as
+    /// every strata-grid surface's cells are: the field is linear on each half.
+    pub fn corner_values(&self, mesh: &SurfaceMesh) -> Result<Vec<f32>> {
+        if mesh.scalars.len() != mesh.vertex_count() {
+            return Err(Error::Mesh(format!(
+                "{} scalars for {} vertices: corner values need one per vertex",
+                mesh.scalars.len(),
+                mesh.vertex_count()
+            )));
+        }
+        let mut first = Vec::with_capacity(self.pieces.len());
+        let mut cells = 0;
+        for p in &self.pieces {
+            first.push(cells);
+            cells += p.box_cells();
+        }
+        let mut corners = vec![f32::NAN; 4 * cells];
+        for (t, tri) in mesh.triangles.iter().enumerate() {
+            let (cell, at) =
+                cell_corners(tri.map(|v| mesh.texcoords[v as usize])).ok_or_else(|| {
+                    Error::Mesh(format!(
+                        "triangle {t} is not a half of its cell split along the (0, 0)-(1, 1) \
+                     diagonal of texture space: the field has no corner values"
+                    ))
+                })?;
+            let slot = self
+                .vertex_piece
+                .get(tri[0] as usize)
+                .and_then(|&p| Some(first.get(p as usize)? + self.pieces[p as usize].slot(cell)?))
+                .ok_or_else(|| {
+                    Error::Mesh(format!(
+                        "triangle {t} lies in no piece of the cover: the cover was made of \
+                         another surface"
+                    ))
+                })?;
+            for (v, c) in tri.iter().zip(at) {
+                corners[4 * slot + c] = mesh.scalars[*v as usize];
+            }
+        }
+        Ok(corners)
+    }
+
+    /// Cells in all the pieces' boxes, covered or not.
+    pub fn box_cells(&self) -> usize {
+        self.pieces.iter().map(CoverPiece::box_cells).sum()
     }
 
     /// Appends the pieces of `other`, the cover of a surface appended to this one's
@@ -329,6 +411,35 @@ mod tests {
         smaller.pieces[0].size = [1, 1];
         let err = smaller.values(&mesh).expect_err("cells outside the box");
         assert!(err.to_string().contains("cell face 1"), "{err}");
+    }
+
+    #[test]
+    fn corner_values_are_the_scalars_at_each_cells_corners() {
+        let mut mesh = two_pieces();
+        // A field of the node (i, j): 10 i + j, from the texture coordinates.
+        mesh.scalars = mesh
+            .texcoords
+            .iter()
+            .map(|uv| 10.0 * (uv[0] - 1.0) * 0.5 + (uv[1] - 1.0) * 0.5)
+            .collect();
+        let cover = CellCover::of(&mesh).expect("cell faces");
+        let corners = cover.corner_values(&mesh).expect("corner values");
+        assert_eq!(corners.len(), 4 * 7);
+        // Cell (2, 1) of the first box (slot 5), then cell (5, 0) (slot 6).
+        assert_eq!(&corners[20..24], &[21.0, 31.0, 32.0, 22.0]);
+        assert_eq!(&corners[24..], &[50.0, 60.0, 61.0, 51.0]);
+        assert!(corners[16..20].iter().all(|c| c.is_nan()), "cell (1, 1)");
+
+        // Split along the other diagonal, the field is not the one corners describe.
+        let mut flipped = mesh.clone();
+        let [a, b, c] = flipped.triangles[2];
+        let d = flipped.triangles[3][2];
+        flipped.triangles[2] = [a, b, d];
+        flipped.triangles[3] = [b, c, d];
+        let err = cover.corner_values(&flipped).expect_err("other diagonal");
+        assert!(err.to_string().contains("triangle 2"), "{err}");
+        mesh.scalars.clear();
+        assert!(cover.corner_values(&mesh).is_err(), "no scalars");
     }
 
     #[test]

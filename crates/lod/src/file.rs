@@ -32,6 +32,7 @@ use memmap2::Mmap;
 use rayon::prelude::*;
 use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surface};
 
+use crate::cover::cell_corners;
 use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result, build_layer};
 
 const MAGIC: [u8; 8] = *b"STRATLOD";
@@ -761,5 +762,74 @@ impl LodFile {
             });
         }
         Ok(Some((cover, values)))
+    }
+
+    /// The stored scalar at the four corners of every cell of the boxes of
+    /// [`LodFile::selection_cells`] (as [`CellCover::corner_values`] orders them), read
+    /// from the full-resolution leaves under each selected node: with them the
+    /// renderer draws the isolines of the model's surfaces on whatever level is
+    /// chosen. Reads as many leaves as the selection covers: the drawn layers at full
+    /// resolution. `None` without a property.
+    pub fn selection_corners(&self, selection: &[u32]) -> Result<Option<Vec<f32>>> {
+        if !self.has_scalars() {
+            return Ok(None);
+        }
+        let node = |i: u32| {
+            self.nodes()
+                .get(i as usize)
+                .ok_or_else(|| Error::Option(format!("no node {i}")))
+        };
+        let mut corners = Vec::new();
+        for &i in selection {
+            let n = node(i)?;
+            let [i0, j0, i1, j1] = n.cells.map(i64::from);
+            let first = corners.len();
+            corners.resize(
+                first + 4 * ((i1 - i0) * (j1 - j0)).max(0) as usize,
+                f32::NAN,
+            );
+            let piece = CoverPiece {
+                origin: [i0, j0].map(|c| i32::try_from(c).unwrap_or(i32::MAX)),
+                size: [i1 - i0, j1 - j0].map(|c| u32::try_from(c).unwrap_or(0)),
+                bits: Vec::new(),
+            };
+            let mut stack = vec![i];
+            while let Some(k) = stack.pop() {
+                let m = node(k)?;
+                if m.level > 0 {
+                    for c in m.first_child..m.first_child.saturating_add(m.child_count) {
+                        if node(c)?.level >= m.level {
+                            return Err(Error::Option(format!(
+                                "node {c}, a child of node {k}, is not on a finer level"
+                            )));
+                        }
+                        stack.push(c);
+                    }
+                    continue;
+                }
+                let vertices = self.vertices(k as usize);
+                let indices = self.indices(k as usize);
+                for t in 0..indices.len() / 3 {
+                    let tri = [0, 1, 2].map(|c| vertices.get(indices.get(3 * t + c) as usize));
+                    let [Some(a), Some(b), Some(c)] = tri else {
+                        return Err(Error::Option(format!(
+                            "node {k}: triangle {t} names a vertex the node does not have"
+                        )));
+                    };
+                    let tri = [a, b, c];
+                    let slot = cell_corners(tri.map(|v| v.texcoord))
+                        .and_then(|(cell, at)| Some((piece.slot(cell)?, at)));
+                    let Some((slot, at)) = slot else {
+                        return Err(Error::Option(format!(
+                            "node {k}: triangle {t} is not a half of a cell of node {i}"
+                        )));
+                    };
+                    for (v, c) in tri.iter().zip(at) {
+                        corners[first + 4 * slot + c] = v.scalar;
+                    }
+                }
+            }
+        }
+        Ok(Some(corners))
     }
 }

@@ -336,6 +336,57 @@ fn file_round_trip_and_selection() {
             .unwrap()
             .is_none()
     );
+
+    // The corners of those boxes' cells: the full-resolution surface's vertex scalars
+    // at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever level the
+    // node is on; NaN where the layer has no face.
+    let corners = file
+        .selection_corners(&chosen)
+        .unwrap()
+        .expect("a property");
+    assert_eq!(corners.len(), 4 * values.len());
+    let mut first = 0;
+    let mut checked = 0;
+    for (piece, &i) in cover.pieces.iter().zip(&chosen) {
+        let n = &file.nodes()[i as usize];
+        let layer = &file.layers()[n.layer as usize];
+        let face = if layer.face == 0 {
+            Face::Top
+        } else {
+            Face::Bottom
+        };
+        let surface = layer_surface(&grid, layer.k as usize, face, Some("PORO"), [0.0; 3]).unwrap();
+        let mut want = vec![f32::NAN; 4 * piece.box_cells()];
+        for f in &surface.cell_faces {
+            let [a, b] = f.triangles.map(|t| surface.triangles[t as usize]);
+            let Some(slot) = piece.slot([f.cell[0] as i32, f.cell[1] as i32]) else {
+                continue;
+            };
+            for (c, v) in [a[0], a[1], a[2], b[2]].into_iter().enumerate() {
+                want[4 * slot + c] = surface.scalars[v as usize];
+            }
+        }
+        let got = &corners[4 * first..4 * (first + piece.box_cells())];
+        for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+            assert_eq!(
+                g.to_bits(),
+                w.to_bits(),
+                "node {i} (level {}), corner {k}",
+                n.level
+            );
+        }
+        checked += want.iter().filter(|w| !w.is_nan()).count();
+        first += piece.box_cells();
+    }
+    assert!(checked > 0);
+    assert!(chosen.iter().any(|&i| file.nodes()[i as usize].level > 0));
+    assert!(
+        LodFile::open(&plain)
+            .unwrap()
+            .selection_corners(&chosen)
+            .unwrap()
+            .is_none()
+    );
 }
 
 /// Layers are built in parallel batches, each written while the next is built: the
@@ -448,6 +499,7 @@ fn random_damage_never_panics() {
                 let selection = file.select(&view, max_pixels);
                 let _ = file.selection_mesh(&selection);
                 let _ = file.selection_cells(&selection);
+                let _ = file.selection_corners(&selection);
             }
             for i in 0..file.nodes().len() {
                 let _ = file.mesh(i);
