@@ -691,6 +691,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                         pieces: &pieces,
                         cover: &cover,
                         values: values.as_deref(),
+                        corners: None,
                         mask: matches!(method, Method::OursCover),
                     };
                     Some(scene.draw(&mut renderer, &mesh, Some(&cells))?)

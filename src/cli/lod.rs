@@ -255,6 +255,7 @@ fn view(args: &ViewArgs) -> Result<()> {
                     pieces: &cover.vertex_piece,
                     cover,
                     values: Some(values),
+                    corners: None,
                     mask: false,
                 },
             )
@@ -327,6 +328,7 @@ impl SceneCells {
             pieces: &self.pieces,
             cover: &self.cover,
             values: self.values.as_deref(),
+            corners: None,
             mask: self.mask,
         }
     }

@@ -74,6 +74,7 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
                 pieces: &pieces,
                 cover: &cover,
                 values: None,
+                corners: None,
                 mask: true,
             },
         )
@@ -280,6 +281,7 @@ fn compare_cell_colours(
         pieces,
         cover,
         values: Some(values),
+        corners: None,
         mask: false,
     };
     let mut r = renderer();
@@ -358,6 +360,7 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
         pieces,
         cover: &cover,
         values: None,
+        corners: None,
         mask: true,
     };
     let err = r
@@ -377,6 +380,7 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
             &mesh,
             &CellDraw {
                 values: Some(&[1.0; 3]),
+                corners: None,
                 ..draw(&cover.vertex_piece)
             },
         )

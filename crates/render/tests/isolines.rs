@@ -7,7 +7,10 @@
 mod support;
 
 use strata_grid::SurfaceMesh;
+use strata_lod::{CellCover, Options, decimate};
+use strata_render::CellDraw;
 use strata_render::glam::{Vec2, Vec3};
+use strata_render::wire::Drawable;
 use strata_render::{
     Camera, Coverage, IsolineOptions, Isolines, RangeAdjust, Renderer, Style, View, WireMode,
 };
@@ -285,10 +288,7 @@ fn steep_field_isolines_lie_on_their_contours_sigma_wide() {
         }
     }
     // Every fragment path of the texture family draws the same isolines from its
-    // interpolated scalar (their wire made invisible, so only isolines are measured).
-    let view = head_on();
-    let (centre, px) = screen_frame(&view);
-    let radii: Vec<f32> = values.iter().map(|v| v.sqrt() * px).collect();
+    // interpolated scalar.
     for mode in [
         WireMode::None,
         WireMode::Global,
@@ -296,28 +296,110 @@ fn steep_field_isolines_lie_on_their_contours_sigma_wide() {
         WireMode::TexGs,
     ] {
         let drawable = r.prepare(&mesh, mode).expect("prepare");
-        let image = r
-            .render(
-                &[drawable.as_ref()],
-                &view,
-                &Style {
-                    wire_color: [1.0, 1.0, 1.0, 0.0],
-                    ..style(iso, Coverage::Texture)
-                },
-            )
-            .expect("render");
-        let frame = Frame::new(&image);
-        let scans: Vec<Scan> = radii
-            .iter()
-            .flat_map(|&rad| {
-                let others: Vec<f32> = radii.iter().copied().filter(|&o| o != rad).collect();
-                measure_circle(&frame, centre, rad, 720, &others, REACH)
-            })
-            .collect();
+        let scans = measure_unwired(&mut r, drawable.as_ref(), iso, &values);
         let label = format!("steep fragment path of {}", mode.name());
         let m = report(&label, &r, &scans);
         assert_on_contour_and_sigma_wide(&label, &m);
     }
+}
+
+/// Draws `drawable` head-on with `iso` and its wire made invisible, so that only
+/// isolines are measured, and measures the contour circles of x² + y² = `values`.
+fn measure_unwired(
+    r: &mut Renderer,
+    drawable: &dyn Drawable,
+    iso: Isolines,
+    values: &[f32],
+) -> Vec<Scan> {
+    let view = head_on();
+    let (centre, px) = screen_frame(&view);
+    let radii: Vec<f32> = values.iter().map(|v| v.sqrt() * px).collect();
+    let image = r
+        .render(
+            &[drawable],
+            &view,
+            &Style {
+                wire_color: [1.0, 1.0, 1.0, 0.0],
+                ..style(iso, Coverage::Texture)
+            },
+        )
+        .expect("render");
+    let frame = Frame::new(&image);
+    radii
+        .iter()
+        .flat_map(|&rad| {
+            let others: Vec<f32> = radii.iter().copied().filter(|&o| o != rad).collect();
+            measure_circle(&frame, centre, rad, 720, &others, REACH)
+        })
+        .collect()
+}
+
+#[test]
+fn a_decimated_surface_draws_the_original_isolines_from_its_cells_corners() {
+    let mut r = renderer();
+    let mesh = paraboloid(32, 1.0);
+    // The plane keeps its texture coordinates exactly (they are affine in x and y), so
+    // what moves an isoline is only how its field is carried.
+    let out = decimate(&mesh, &Options::fraction(&mesh, 0.1)).expect("decimate");
+    let cover = CellCover::of(&mesh).expect("cell faces");
+    let pieces = out.pieces(&mesh, &cover);
+    let corners = cover.corner_values(&mesh).expect("corner values");
+    let values: Vec<f32> = (1..=8).map(|k| 0.1 * k as f32).collect();
+    let iso = Isolines::new(0.1);
+    let original = r.prepare(&mesh, WireMode::Global).expect("original");
+    let scans = measure_unwired(&mut r, original.as_ref(), iso, &values);
+    let original = report("original", &r, &scans);
+    let mut measured = Vec::new();
+    for (label, corners) in [
+        ("corner values", Some(&corners[..])),
+        ("vertex scalars", None),
+    ] {
+        let drawable = r
+            .prepare_cells(
+                &out.mesh,
+                &CellDraw {
+                    pieces: &pieces,
+                    cover: &cover,
+                    values: None,
+                    corners,
+                    mask: false,
+                },
+            )
+            .expect("prepare cells");
+        let scans = measure_unwired(&mut r, drawable.as_ref(), iso, &values);
+        let label = format!(
+            "{} -> {} triangles, isolines from the {label}",
+            mesh.triangle_count(),
+            out.mesh.triangle_count()
+        );
+        measured.push((label.clone(), report(&label, &r, &scans)));
+    }
+    // From the original's field at the cells' corners: on the contours, sigma wide,
+    // and where the original draws them.
+    let (label, exact) = &measured[0];
+    assert_on_contour_and_sigma_wide(label, exact);
+    for (what, a, b) in [
+        ("mean offset", exact.offsets.mean, original.offsets.mean),
+        (
+            "largest |offset|",
+            exact.abs_offsets.max,
+            original.abs_offsets.max,
+        ),
+        ("mean width", exact.widths.mean, original.widths.mean),
+    ] {
+        assert!(
+            (a - b).abs() < 0.05,
+            "{label}: {what} {a} px, the original's {b} px"
+        );
+    }
+    // From the decimated vertices' scalars: the field is linear over far larger
+    // triangles, and its isolines cut across the circles' arcs.
+    let off = measured[1].1.abs_offsets.max;
+    assert!(
+        off >= 2.0,
+        "{}: isolines within {off} px of their contours",
+        measured[1].0
+    );
 }
 
 #[test]

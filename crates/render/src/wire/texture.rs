@@ -380,7 +380,7 @@ pub struct CellTechnique {
 const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
 
 /// Words per piece at the front of the cover texture (see texture.wgsl).
-const COVER_HEADER: usize = 6;
+const COVER_HEADER: usize = 7;
 
 /// The header word of a piece without values (`NO_VALUES` in texture.wgsl).
 const NO_VALUES: u32 = u32::MAX;
@@ -397,6 +397,11 @@ pub struct CellDraw<'a> {
     /// `cover.values(original)`: each fragment takes its cell's colour, as the
     /// original's cell faces do; elsewhere, and without them, the vertex scalars'.
     pub values: Option<&'a [f32]>,
+    /// `cover.corner_values(original)`, of the field the frame's isolines follow:
+    /// each fragment evaluates the original's field from its texture coordinates, so
+    /// the isolines are the original's as the grid lines are, and none are drawn
+    /// outside its cells. Without them, isolines follow the vertex scalars.
+    pub corners: Option<&'a [f32]>,
     /// Discard the fragments over cells their piece does not cover: for surfaces
     /// decimated with strata-lod's `Options::cover`, whose outlines only grew outward.
     pub mask: bool,
@@ -473,6 +478,7 @@ impl CellTechnique {
             pieces,
             cover,
             values,
+            corners,
             ..
         } = *cells;
         if pieces.len() != mesh.vertex_count() {
@@ -514,6 +520,7 @@ impl CellTechnique {
                 &cover.pieces[batch.clone()],
                 batch.start,
                 values.map(|v| &v[cells.clone()]),
+                corners.map(|c| &c[4 * cells.start..4 * cells.end]),
             )?;
             let rows = texels.len().div_ceil(width).max(1);
             texels.resize(width * rows, 0);
@@ -605,9 +612,10 @@ impl CoverPlan {
             pieces,
             cover,
             values,
+            corners,
             ..
         } = *cells;
-        let cell_count: usize = cover.pieces.iter().map(|p| p.box_cells()).sum();
+        let cell_count = cover.box_cells();
         if let Some(values) = values
             && values.len() != cell_count
         {
@@ -616,13 +624,24 @@ impl CoverPlan {
                 values.len()
             )));
         }
+        if let Some(corners) = corners
+            && corners.len() != 4 * cell_count
+        {
+            return Err(Error::Invalid(format!(
+                "{} corner values for a cover of {cell_count} cells (four each)",
+                corners.len()
+            )));
+        }
         let mut batches: Vec<Range<usize>> = Vec::new();
         let mut batch_cells: Vec<Range<usize>> = Vec::new();
         let mut batch_of_piece = Vec::with_capacity(cover.pieces.len());
         let mut words = 1;
         let mut cells = 0;
         for (i, p) in cover.pieces.iter().enumerate() {
-            let w = COVER_HEADER + p.bits.len() + values.map_or(0, |_| p.box_cells());
+            let w = COVER_HEADER
+                + p.bits.len()
+                + values.map_or(0, |_| p.box_cells())
+                + corners.map_or(0, |_| 4 * p.box_cells());
             if 1 + w > capacity {
                 return Err(Error::Invalid(format!(
                     "piece {i} of the cell cover takes {w} words, more than this adapter's \
@@ -670,17 +689,20 @@ impl CoverPlan {
 }
 
 /// The words of a batch of `pieces`, the first of which is piece `first_piece` of the
-/// cover, and of their `values` (one per cell of each piece's box, see
-/// `CellCover::values`) when given, as `covered_cell` and `cell_scalar` in texture.wgsl
-/// read them.
+/// cover, of their `values` (one per cell of each piece's box, see
+/// `CellCover::values`) and of their `corners` (four per cell, see
+/// `CellCover::corner_values`) when given, as `covered_cell`, `cell_scalar` and
+/// `cell_field` in texture.wgsl read them.
 fn cover_words(
     pieces: &[CoverPiece],
     first_piece: usize,
     values: Option<&[f32]>,
+    corners: Option<&[f32]>,
 ) -> Result<Vec<u32>> {
     let bit_words: usize = pieces.iter().map(|p| p.bits.len()).sum();
     let header = 1 + COVER_HEADER * pieces.len();
-    let total = header + bit_words + values.map_or(0, <[f32]>::len);
+    let value_words = values.map_or(0, <[f32]>::len);
+    let total = header + bit_words + value_words + corners.map_or(0, <[f32]>::len);
     let word = |offset: usize| {
         u32::try_from(offset)
             .ok()
@@ -691,6 +713,7 @@ fn cover_words(
     words.push(word(first_piece)?);
     let mut bits = header;
     let mut first_value = bits + bit_words;
+    let mut first_corner = first_value + value_words;
     for p in pieces {
         words.extend([
             p.origin[0] as u32,
@@ -702,22 +725,27 @@ fn cover_words(
                 Some(_) => word(first_value)?,
                 None => NO_VALUES,
             },
+            match corners {
+                Some(_) => word(first_corner)?,
+                None => NO_VALUES,
+            },
         ]);
         bits += p.bits.len();
         first_value += p.box_cells();
+        first_corner += 4 * p.box_cells();
     }
     for p in pieces {
         words.extend_from_slice(&p.bits);
     }
-    if let Some(values) = values {
-        words.extend(values.iter().map(|&v| {
-            if v.is_finite() {
-                v.to_bits()
-            } else {
-                UNDEFINED_SCALAR.to_bits()
-            }
-        }));
-    }
+    let scalar_bits = |v: &f32| {
+        if v.is_finite() {
+            v.to_bits()
+        } else {
+            UNDEFINED_SCALAR.to_bits()
+        }
+    };
+    words.extend(values.into_iter().flatten().map(scalar_bits));
+    words.extend(corners.into_iter().flatten().map(scalar_bits));
     Ok(words)
 }
 
@@ -796,13 +824,24 @@ mod tests {
         let cover = CellCover::of(&mesh).expect("cell faces");
         assert_eq!(cover.pieces.len(), 9);
         let values = cover.values(&mesh).expect("values");
-        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 36;
+        // Isolines of a field other than the vertex scalars, through the batches too.
+        let field = SurfaceMesh {
+            scalars: mesh
+                .positions
+                .iter()
+                .map(|p| 0.3 * p[0] + 0.2 * p[1])
+                .collect(),
+            ..mesh.clone()
+        };
+        let corners = cover.corner_values(&field).expect("corner values");
+        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 5 * 36;
         let mut r = Renderer::headless().expect("renderer");
         let technique = CellTechnique::new(&r.context(), false);
-        let draw = |values| CellDraw {
+        let draw = |values, corners| CellDraw {
             pieces: &cover.vertex_piece,
             cover: &cover,
             values,
+            corners,
             mask: false,
         };
         let (lo, hi) = mesh.bounds().expect("bounds");
@@ -818,35 +857,49 @@ mod tests {
             height: 240,
             bounds: (Vec3::from(lo), Vec3::from(hi)),
         };
-        let style = Style {
+        let plain = Style {
             scalar_range: Some((0.0, 4.0)),
             ..Style::default()
         };
-        let mut frame = |cells: CellDraw, words: usize| {
+        let with_isolines = Style {
+            isolines: Some(crate::Isolines::new(1.0)),
+            ..plain
+        };
+        let mut frame = |cells: CellDraw, words: usize, style: &Style| {
             let plan = CoverPlan::new(&mesh, &cells, words).expect("plan");
             let drawable = technique
                 .prepare_batched(&r.gpu, &mesh, &cells, words)
                 .expect("prepare");
             let image = r
-                .render(&[drawable.as_ref()], &view, &style)
+                .render(&[drawable.as_ref()], &view, style)
                 .expect("render");
             (plan.batches.len(), image)
         };
-        let (one, whole) = frame(draw(Some(&values)), 1 << 20);
-        let (nine, batched) = frame(draw(Some(&values)), 1 + piece_words);
-        let (_, interpolated) = frame(draw(None), 1 << 20);
+        let all = draw(Some(&values), Some(&corners));
+        let (one, whole) = frame(all, 1 << 20, &with_isolines);
+        let (nine, batched) = frame(all, 1 + piece_words, &with_isolines);
+        let (_, no_isolines) = frame(all, 1 << 20, &plain);
+        let (_, interpolated) = frame(draw(None, None), 1 << 20, &plain);
         assert_eq!((one, nine), (1, 9));
         let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
             a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count()
         };
         assert_eq!(differing(&whole, &batched), 0, "batches change the frame");
         assert!(
-            differing(&whole, &interpolated) > 240 * 240 / 10,
+            differing(&whole, &no_isolines) > 240 * 240 / 50,
+            "the corner values draw isolines"
+        );
+        assert!(
+            differing(&no_isolines, &interpolated) > 240 * 240 / 10,
             "the cells' values colour the frame"
         );
         assert!(
-            CoverPlan::new(&mesh, &draw(Some(&values)), piece_words).is_err(),
+            CoverPlan::new(&mesh, &all, piece_words).is_err(),
             "a piece larger than a texture is refused"
+        );
+        assert!(
+            CoverPlan::new(&mesh, &draw(None, Some(&corners[4..])), 1 << 20).is_err(),
+            "corner values of another cover are refused"
         );
     }
 }

@@ -43,12 +43,12 @@ fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
-    return uv_colour(in, in.scalar);
+    return uv_colour(in, in.scalar, in.scalar);
 }
 
 // The surface coloured by `colour_scalar` under the two line families of `in.uv`;
-// isolines follow the interpolated scalar.
-fn uv_colour(in: UvOut, colour_scalar: f32) -> vec4<f32> {
+// isolines follow `iso_scalar`.
+fn uv_colour(in: UvOut, colour_scalar: f32, iso_scalar: f32) -> vec4<f32> {
     let dpx = dpdx(in.wp);
     let dpy = dpdy(in.wp);
     let du = dpdx(in.uv);
@@ -56,15 +56,17 @@ fn uv_colour(in: UvOut, colour_scalar: f32) -> vec4<f32> {
     let a = depth_fraction(in.wp);
     let cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
     let base = base_color(colour_scalar);
-    let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, a);
+    let extra = extra_lines(in.wp, iso_coordinate(iso_scalar), iso_scalar > UNDEFINED_SCALAR, a);
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
 // Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover),
-// for a batch of consecutive pieces: the batch's first piece, then six words per piece
-// (first cell x and y as i32, cells across and down, index of its first bit word,
-// index of its first value word or NO_VALUES), then the bits, then the values (f32
-// bits), each a row of cells after another, in a texture read as a flat array.
+// for a batch of consecutive pieces: the batch's first piece, then seven words per
+// piece (first cell x and y as i32, cells across and down, index of its first bit word,
+// index of its first value word or NO_VALUES, index of its first corner word or
+// NO_VALUES), then the bits, then the values (f32 bits), then the corner values (four
+// f32 per cell: the field at the cell's corners (0, 0), (1, 0), (1, 1), (0, 1)), each
+// a row of cells after another, in a texture read as a flat array.
 @group(1) @binding(4) var cover_words: texture_2d<u32>;
 
 const NO_VALUES: u32 = 0xffffffffu;
@@ -84,7 +86,7 @@ fn cover_word(i: u32) -> u32 {
 
 // Where `piece`'s six header words start.
 fn piece_header(piece: u32) -> u32 {
-    return 1u + 6u * (piece - cover_word(0u));
+    return 1u + 7u * (piece - cover_word(0u));
 }
 
 // The place in `piece`'s box of the cell of global coordinates `uv` (node (i, j) at
@@ -114,6 +116,33 @@ fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
     return bitcast<f32>(cover_word(first + u32(cell)));
 }
 
+// The field the isolines follow at global coordinates `uv` in `cell` of `piece`: the
+// original's, linear on each half of the cell face split along its (0, 0)-(1, 1)
+// diagonal as the original's triangles are, undefined outside its cells; the
+// interpolated scalar where the piece has no corner values.
+fn cell_field(piece: u32, cell: i32, uv: vec2<f32>, interpolated: f32) -> f32 {
+    let first = cover_word(piece_header(piece) + 6u);
+    if first == NO_VALUES {
+        return interpolated;
+    }
+    if cell < 0 {
+        return UNDEFINED_SCALAR;
+    }
+    let c = first + 4u * u32(cell);
+    let f00 = bitcast<f32>(cover_word(c));
+    let f10 = bitcast<f32>(cover_word(c + 1u));
+    let f11 = bitcast<f32>(cover_word(c + 2u));
+    let f01 = bitcast<f32>(cover_word(c + 3u));
+    if min(min(f00, f10), min(f11, f01)) <= UNDEFINED_SCALAR {
+        return UNDEFINED_SCALAR;
+    }
+    let t = clamp(fract((uv - vec2<f32>(1.0)) * 0.5), vec2<f32>(0.0), vec2<f32>(1.0));
+    if t.x >= t.y {
+        return f00 + t.x * (f10 - f00) + t.y * (f11 - f10);
+    }
+    return f00 + t.y * (f01 - f00) + t.x * (f11 - f01);
+}
+
 @vertex
 fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32, @location(3) piece: u32) -> CoverOut {
     let wp = world(p);
@@ -126,7 +155,7 @@ fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(
 @fragment
 fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
     let cell = covered_cell(in.piece, in.uv);
-    let colour = uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar));
+    let colour = uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar));
     if cell < 0 {
         discard;
     }
@@ -138,7 +167,7 @@ fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_uv_cells(in: CoverOut) -> @location(0) vec4<f32> {
     let cell = covered_cell(in.piece, in.uv);
-    return uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar));
+    return uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar));
 }
 
 @vertex
