@@ -3,8 +3,9 @@
 //! cell by cell, over the colour range and with the framing that `strata render` gives
 //! the model.
 //! `strata render --lod` says when its budget cannot keep the outlines, and offers
-//! `--cover`, which keeps them, and says which wireframes colour decimated surfaces
-//! cell by cell.
+//! `--cover`, which keeps them, says which wireframes colour decimated surfaces cell
+//! by cell, and draws the original's isolines on them, as `strata lod view` does on
+//! any level of a hierarchy.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -275,6 +276,150 @@ fn render_lod_says_that_only_the_global_wireframe_colours_by_cell() {
     );
     let global = render("global");
     assert!(!global.contains("interpolated between"), "{global}");
+}
+
+/// Pixels that isolines darken: a frame drawn with them against one without.
+fn isoline_pixels(plain: &image::RgbaImage, with: &image::RgbaImage) -> Vec<bool> {
+    let luma = |p: &image::Rgba<u8>| {
+        0.299 * f64::from(p[0]) + 0.587 * f64::from(p[1]) + 0.114 * f64::from(p[2])
+    };
+    plain
+        .pixels()
+        .zip(with.pixels())
+        .map(|(a, b)| luma(a) - luma(b) > 40.0)
+        .collect()
+}
+
+/// The line-pixel F1 of isolines `got` against `want` (frames 500 pixels wide, lines
+/// matching within a pixel, as `strata bench lod` scores grid lines), after checking
+/// that `want` has isolines.
+fn isoline_f1(got: &[bool], want: &[bool], label: &str) -> f64 {
+    let count = |m: &[bool]| m.iter().filter(|&&p| p).count();
+    let (_, _, f1) = strata::bench::lod::f1(got, want, 500, 1);
+    eprintln!(
+        "{label}: isoline pixels {} against {}; F1 {f1:.3}",
+        count(got),
+        count(want)
+    );
+    assert!(
+        count(want) > 500 * 400 / 100,
+        "{label}: the sample has isolines"
+    );
+    f1
+}
+
+/// From above, with the cell lines made invisible, so that only isolines darken.
+const FROM_ABOVE: [&str; 4] = ["--view", "0,89", "--wire-color", "#00000000"];
+
+#[test]
+fn render_lod_draws_the_original_isolines_on_the_decimated_surface() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let png = dir.path().join("iso.png");
+    let isolines = |options: &[&str]| {
+        let frame = |iso: &[&str]| {
+            let mut args = FROM_ABOVE.to_vec();
+            args.extend_from_slice(options);
+            args.extend_from_slice(iso);
+            render_sample(&png, "500x400", &args);
+            image::open(&png).expect("a PNG").to_rgba8()
+        };
+        isoline_pixels(&frame(&[]), &frame(&["--iso", "PORO:0.02"]))
+    };
+    let original = isolines(&[]);
+    let f1 = isoline_f1(&isolines(&["--lod", "20"]), &original, "render --lod 20");
+    assert!(f1 > 0.9, "the isolines moved: F1 {f1:.3}");
+    for wire in ["tex", "none"] {
+        let out = strata(&[
+            "render",
+            sample().to_str().expect("a UTF-8 path"),
+            "--lod",
+            "20",
+            "--iso",
+            "PORO",
+            "--wire",
+            wire,
+            "-o",
+            png.to_str().expect("a UTF-8 path"),
+        ]);
+        assert!(!out.status.success(), "--wire {wire} is refused");
+        assert!(stderr(&out).contains("--wire global"), "{}", stderr(&out));
+    }
+}
+
+#[test]
+fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let lod = dir.path().join("tiles.lod");
+    let png = dir.path().join("iso.png");
+    let (lod_s, png_s) = (
+        lod.to_str().expect("a UTF-8 path"),
+        png.to_str().expect("a UTF-8 path"),
+    );
+    // Tiles of 8 cells: the sample's hierarchy has levels to choose from.
+    let sample = sample();
+    let built = strata(&[
+        "lod",
+        "build",
+        sample.to_str().expect("a UTF-8 path"),
+        "--tile",
+        "8",
+        "-o",
+        lod_s,
+    ]);
+    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    let view = |options: &[&str]| {
+        let mut args = vec!["lod", "view", lod_s, "--size", "500x400", "-o", png_s];
+        args.extend_from_slice(&FROM_ABOVE);
+        args.extend_from_slice(options);
+        let out = strata(&args);
+        assert!(
+            out.status.success(),
+            "lod view {options:?}: {}",
+            stderr(&out)
+        );
+        (stderr(&out), image::open(&png).expect("a PNG").to_rgba8())
+    };
+    let isolines = |pixels: &str| {
+        let (_, plain) = view(&["--pixels", pixels]);
+        let (printed, with) = view(&["--pixels", pixels, "--iso", "0.02"]);
+        (printed, isoline_pixels(&plain, &with))
+    };
+    let (full, finest) = isolines("0.1");
+    let (coarse, coarsest) = isolines("30");
+    assert!(full.contains("(100.0 %)"), "{full}");
+    assert!(
+        coarse.contains("level 1") && !coarse.contains("level 0"),
+        "{coarse}"
+    );
+    let f1 = isoline_f1(&coarsest, &finest, "lod view at 30 px");
+    assert!(f1 > 0.9, "the isolines moved: F1 {f1:.3}");
+
+    let refused = |options: &[&str], says: &str| {
+        let mut args = vec!["lod", "view", lod_s, "-o", png_s];
+        args.extend_from_slice(options);
+        let out = strata(&args);
+        assert!(!out.status.success(), "{options:?} is refused");
+        assert!(stderr(&out).contains(says), "{}", stderr(&out));
+    };
+    refused(&["--iso", "--wire", "tex"], "--wire global");
+    refused(&["--iso", "0"], "not a positive spacing");
+    let plain = dir.path().join("plain.lod");
+    let plain_s = plain.to_str().expect("a UTF-8 path");
+    let built = strata(&[
+        "lod",
+        "build",
+        sample.to_str().expect("a UTF-8 path"),
+        "--no-property",
+        "-o",
+        plain_s,
+    ]);
+    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    let out = strata(&["lod", "view", plain_s, "--iso", "-o", png_s]);
+    assert!(
+        !out.status.success() && stderr(&out).contains("no property stored"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 /// The word after `after` in what a command printed (e.g. a colour range).

@@ -11,10 +11,12 @@ use strata::lod::{
     BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
 };
 use strata::render::glam::Vec3;
-use strata::render::{Camera, CellDraw, Renderer, View, WireMode};
+use strata::render::{Camera, CellDraw, Renderer, Style, View, WireMode};
 use strata::scene::colour_range;
 
-use super::style::{FrameArgs, StyleArgs, layer_range, parse_layers};
+use super::style::{
+    FrameArgs, IsoSpacing, StyleArgs, layer_range, parse_iso_spacing, parse_layers,
+};
 
 #[derive(Subcommand)]
 pub enum LodCommand {
@@ -73,6 +75,12 @@ pub struct ViewArgs {
     layers: Option<(usize, usize)>,
     #[command(flatten)]
     style: StyleArgs,
+    /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
+    /// its range when no spacing is given; every fifth line major). With --wire global,
+    /// on whatever level is chosen they are the model's, evaluated from the
+    /// full-resolution tiles under the chosen nodes, which this reads.
+    #[arg(long, value_name = "SPACING[:MAJOR_EVERY]", num_args = 0..=1, default_missing_value = "", value_parser = parse_iso_spacing)]
+    iso: Option<IsoSpacing>,
     #[command(flatten)]
     frame: FrameArgs,
     /// Output PNG; only the selection is printed when omitted.
@@ -239,13 +247,26 @@ fn view(args: &ViewArgs) -> Result<()> {
             .and_then(|(lo, hi)| colour_range([lo, hi])),
         Some(_) => colour_range(drawn_values(&file, &drawn)),
     };
-    let mesh = file.selection_mesh(&chosen)?;
     let wire = args.style.wire;
+    let isolines = match (args.iso, scalar_range) {
+        (Some(_), _) if wire != WireMode::Global => bail!(
+            "--iso draws the model's isolines by the global coordinates: --wire global, not {}",
+            wire.name()
+        ),
+        (Some(iso), Some(range)) => Some(iso.isolines(range)),
+        (Some(_), None) => bail!("{}: --iso: no property stored", args.file.display()),
+        (None, _) => None,
+    };
+    let mesh = file.selection_mesh(&chosen)?;
     let mut renderer = Renderer::headless()?;
     let cells = if wire == WireMode::Global {
         file.selection_cells(&chosen)?
     } else {
         None
+    };
+    let corners = match isolines {
+        Some(_) => file.selection_corners(&chosen)?,
+        None => None,
     };
     let drawable = match &cells {
         Some((cover, values)) => renderer
@@ -255,7 +276,7 @@ fn view(args: &ViewArgs) -> Result<()> {
                     pieces: &cover.vertex_piece,
                     cover,
                     values: Some(values),
-                    corners: None,
+                    corners: corners.as_deref(),
                     mask: false,
                 },
             )
@@ -268,11 +289,14 @@ fn view(args: &ViewArgs) -> Result<()> {
         height: frame.size.1,
         bounds,
     };
-    let style = args.style.style(
-        renderer.gpu.info.device_type,
-        scalar_range,
-        [mesh.origin[0], mesh.origin[1]],
-    )?;
+    let style = Style {
+        isolines,
+        ..args.style.style(
+            renderer.gpu.info.device_type,
+            scalar_range,
+            [mesh.origin[0], mesh.origin[1]],
+        )?
+    };
     let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
     strata::render::save_png(&image, output)?;
     eprintln!(
@@ -318,6 +342,8 @@ pub struct SceneCells {
     pub pieces: Vec<u32>,
     pub cover: CellCover,
     pub values: Option<Vec<f32>>,
+    /// The input's isoline field at its cells' corners, when isolines are drawn.
+    pub corners: Option<Vec<f32>>,
     /// The outlines only grew outward (`--cover`): draw over the input's cells only.
     pub mask: bool,
 }
@@ -328,7 +354,7 @@ impl SceneCells {
             pieces: &self.pieces,
             cover: &self.cover,
             values: self.values.as_deref(),
-            corners: None,
+            corners: self.corners.as_deref(),
             mask: self.mask,
         }
     }
@@ -337,14 +363,14 @@ impl SceneCells {
 /// `strata render --lod PERCENT`: `mesh` decimated to `percent` % of its triangles,
 /// its vertical error weighed with the view's exaggeration `z_scale`, and its cells
 /// for drawing it: with `cover`, its outlines only grow outward and the cells mask
-/// it; with `cell_colours`, where the scene has a property, their values colour it
-/// cell by cell.
+/// it; with `against_cells`, it is drawn against the input's cells, whose values
+/// colour it cell by cell where the scene has a property.
 pub fn decimate_scene(
     mesh: &SurfaceMesh,
     percent: f64,
     z_scale: f32,
     cover: bool,
-    cell_colours: bool,
+    against_cells: bool,
 ) -> Result<(SurfaceMesh, Option<SceneCells>)> {
     let start = Instant::now();
     let options = Options {
@@ -396,10 +422,10 @@ pub fn decimate_scene(
     if out.mesh.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }
-    let coloured = cell_colours && !mesh.scalars.is_empty();
+    let coloured = against_cells && !mesh.scalars.is_empty();
     let cells = match out.cover.take() {
         Some(cells) => Some((cells, true)),
-        None if coloured => match CellCover::of(mesh) {
+        None if against_cells => match CellCover::of(mesh) {
             Ok(cells) => Some((cells, false)),
             Err(e) => {
                 eprintln!("note: colours are interpolated between nodes: {e}");
@@ -416,6 +442,7 @@ pub fn decimate_scene(
             } else {
                 None
             },
+            corners: None,
             cover,
             mask,
         }),

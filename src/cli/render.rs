@@ -8,11 +8,11 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use strata::render::glam::Vec3;
 use strata::render::{
-    Camera, Coverage, IsolineOptions, Isolines, RangeAdjust, Renderer, Style, View, WireMode,
+    Camera, Coverage, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
 };
 use strata::scene::{SceneOptions, build};
 
-use super::style::{FrameArgs, StyleArgs, layer_range, parse_layers};
+use super::style::{FrameArgs, IsoSpacing, StyleArgs, layer_range, parse_iso, parse_layers};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -50,7 +50,7 @@ pub struct RenderArgs {
     /// lines over the range when omitted; every fifth line major by default). Drawn
     /// with the global wireframe or none.
     #[arg(long, value_parser = parse_iso)]
-    iso: Option<(String, Option<f32>, u32)>,
+    iso: Option<(String, IsoSpacing)>,
     /// Range adjust of the isolines: on, off, or the papers' formulas paper2010 and
     /// paper2011 (the latter moves lines: kept to show it).
     #[arg(long, default_value = "on", value_parser = parse_adjust)]
@@ -62,8 +62,10 @@ pub struct RenderArgs {
     /// nodes (decimated triangles are no longer cells). Says when PERCENT is below the
     /// triangles that keep every corner of the outlines, holes and fault traces; there
     /// meshoptimizer's simplify decimates instead, its result fitted to the original
-    /// grid lines (as strata's is just above that).
-    #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent, conflicts_with = "iso")]
+    /// grid lines (as strata's is just above that). With --iso, drawn with --wire
+    /// global, the isolines are the original's: each fragment evaluates the original
+    /// surface's field from its global coordinates, as it takes its cell's colour.
+    #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent)]
     lod: Option<f64>,
     /// With --lod: let the outlines, holes and fault traces grow only outward in the
     /// decimation, and draw each decimated surface over the original's cells only (a
@@ -74,52 +76,11 @@ pub struct RenderArgs {
     cover: bool,
 }
 
-fn parse_iso(s: &str) -> Result<(String, Option<f32>, u32), String> {
-    let mut parts = s.split(':');
-    let name = parts
-        .next()
-        .filter(|n| !n.is_empty())
-        .ok_or_else(|| format!("expected PROPERTY[:SPACING[:MAJOR_EVERY]], got {s:?}"))?;
-    let spacing = parts
-        .next()
-        .map(|v| {
-            v.trim()
-                .parse::<f32>()
-                .ok()
-                .filter(|x| *x > 0.0 && x.is_finite())
-                .ok_or_else(|| format!("{v:?} is not a positive spacing"))
-        })
-        .transpose()?;
-    let major = parts
-        .next()
-        .map(|v| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}")))
-        .transpose()?
-        .unwrap_or(5);
-    if parts.next().is_some() {
-        return Err(format!(
-            "expected PROPERTY[:SPACING[:MAJOR_EVERY]], got {s:?}"
-        ));
-    }
-    Ok((name.to_string(), spacing, major))
-}
-
 fn parse_adjust(s: &str) -> Result<RangeAdjust, String> {
     RangeAdjust::from_name(s).ok_or_else(|| {
         let names: Vec<&str> = RangeAdjust::ALL.iter().map(|(n, _)| *n).collect();
         format!("unknown range adjust {s:?}; one of {}", names.join(", "))
     })
-}
-
-/// A round spacing (1, 2 or 5 times a power of ten) giving about `lines` lines over
-/// `range`.
-fn nice_spacing(range: f32, lines: f32) -> f32 {
-    let raw = (range / lines).max(f32::MIN_POSITIVE);
-    let step = 10f32.powf(raw.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * step)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * step)
 }
 
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -145,11 +106,28 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.cover && wire != WireMode::Global {
         bail!("--cover draws with --wire global, not {}", wire.name());
     }
+    if args.iso.is_some() && !matches!(wire, WireMode::Global | WireMode::None) {
+        bail!(
+            "--iso draws with --wire global or none, not {}",
+            wire.name()
+        );
+    }
+    if args.lod.is_some() && args.iso.is_some() && wire != WireMode::Global {
+        bail!(
+            "--lod with --iso draws the original's isolines by the global coordinates: \
+             --wire global, not {}",
+            wire.name()
+        );
+    }
     let global = wire == WireMode::Global;
-    let (mesh, cells) = match args.lod {
-        Some(percent) => {
-            super::lod::decimate_scene(&mesh, percent, args.frame.zscale, args.cover, global)?
-        }
+    let (mesh, mut cells) = match args.lod {
+        Some(percent) => super::lod::decimate_scene(
+            &mesh,
+            percent,
+            args.frame.zscale,
+            args.cover,
+            global && (!mesh.scalars.is_empty() || args.iso.is_some()),
+        )?,
         None => (mesh, None),
     };
     if args.lod.is_some() && !mesh.scalars.is_empty() && !global {
@@ -159,44 +137,47 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             wire.name()
         );
     }
-    // Isolines need the property interpolated between nodes, whatever colours the
-    // cells: one value per triangle corner of `mesh`.
+    // Isolines follow the property interpolated between nodes, whatever colours the
+    // cells: one value per triangle corner of `mesh`, or on a decimated surface the
+    // original's values at its cells' corners.
     let iso = match &args.iso {
-        Some((name, spacing, major)) => {
-            let (field, iso_range) = isoline_field(&grid, &options, &mesh, name)?;
-            let spacing = spacing.unwrap_or_else(|| nice_spacing(iso_range.1 - iso_range.0, 10.0));
-            Some((field, spacing, *major))
+        Some((name, spacing)) => {
+            let (smooth, iso_range) = field_mesh(&grid, &options, name)?;
+            let field = match (&mut cells, args.lod) {
+                (Some(cells), Some(_)) => {
+                    cells.corners = Some(
+                        cells
+                            .cover
+                            .corner_values(&smooth)
+                            .context("the original's isoline field at the cells' corners")?,
+                    );
+                    None
+                }
+                (None, Some(_)) => bail!("--lod with --iso needs the scene's cells"),
+                (_, None) => Some(corner_field(&options, &smooth, &mesh)?),
+            };
+            Some((field, spacing.isolines(iso_range)))
         }
         None => None,
     };
     let loaded = start.elapsed();
 
     let mut renderer = Renderer::headless()?;
-    let drawable = match &iso {
-        Some((field, ..)) => {
-            if !matches!(wire, WireMode::Global | WireMode::None) {
-                bail!(
-                    "--iso draws with --wire global or none, not {}",
-                    wire.name()
-                );
-            }
-            renderer.prepare_isolines(
-                &mesh,
-                Some(field),
-                IsolineOptions {
-                    adjust: args.iso_adjust,
-                    wire: wire == WireMode::Global,
-                },
-            )?
-        }
-        None => match &cells {
-            Some(cells) => renderer
-                .prepare_cells(&mesh, &cells.draw())
-                .context("preparing the global wireframe over the original's cells")?,
-            None => renderer
-                .prepare(&mesh, wire)
-                .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
-        },
+    let drawable = match (&cells, &iso) {
+        (Some(cells), _) => renderer
+            .prepare_cells(&mesh, &cells.draw())
+            .context("preparing the global wireframe over the original's cells")?,
+        (None, Some((Some(field), ..))) => renderer.prepare_isolines(
+            &mesh,
+            Some(field),
+            IsolineOptions {
+                adjust: args.iso_adjust,
+                wire: wire == WireMode::Global,
+            },
+        )?,
+        _ => renderer
+            .prepare(&mesh, wire)
+            .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
     };
     let (lo, hi) = mesh.bounds().ok_or_else(|| anyhow!("empty scene"))?;
     let bounds = (Vec3::from(lo), Vec3::from(hi));
@@ -214,10 +195,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         bounds,
     };
     let style = Style {
-        isolines: iso.as_ref().map(|(_, spacing, major)| Isolines {
-            major_every: *major,
-            ..Isolines::new(*spacing)
-        }),
+        isolines: iso.as_ref().map(|(_, isolines)| *isolines),
         ..args.style.style(
             renderer.gpu.info.device_type,
             range,
@@ -246,16 +224,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// The isoline field of property `name` per triangle corner of `mesh` (built with
-/// `options`), from the same surfaces with the property averaged onto nodes, and the
-/// range of its defined values. Cell-painted meshes list their triangles face by
-/// face (`SurfaceMesh::with_cell_values`), smooth ones in extraction order.
-fn isoline_field(
+/// The surfaces of `options` with property `name` averaged onto their nodes, whose
+/// vertex scalars are the isoline field, and the range of its defined values.
+fn field_mesh(
     grid: &strata::grid::CornerPointGrid,
     options: &SceneOptions,
-    mesh: &strata::grid::SurfaceMesh,
     name: &str,
-) -> Result<(Vec<f32>, (f32, f32))> {
+) -> Result<(strata::grid::SurfaceMesh, (f32, f32))> {
     if grid.property(name).is_none() {
         bail!("--iso: the model has no property {name}");
     }
@@ -266,6 +241,17 @@ fn isoline_field(
     };
     let (smooth, range) = build(grid, &smooth_options)?;
     let range = range.ok_or_else(|| anyhow!("--iso: {name} has no defined value here"))?;
+    Ok((smooth, range))
+}
+
+/// The isoline field of `smooth` (see [`field_mesh`]) per triangle corner of `mesh`,
+/// the same surfaces built with `options`. Cell-painted meshes list their triangles
+/// face by face (`SurfaceMesh::with_cell_values`), smooth ones in extraction order.
+fn corner_field(
+    options: &SceneOptions,
+    smooth: &strata::grid::SurfaceMesh,
+    mesh: &strata::grid::SurfaceMesh,
+) -> Result<Vec<f32>> {
     let corners = |t: u32| smooth.triangles[t as usize].map(|v| smooth.scalars[v as usize]);
     let cell_painted = options.flat_cells && options.property.is_some();
     let field: Vec<f32> = if cell_painted {
@@ -287,5 +273,5 @@ fn isoline_field(
             mesh.triangle_count()
         );
     }
-    Ok((field, range))
+    Ok(field)
 }

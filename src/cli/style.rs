@@ -5,7 +5,7 @@ use anyhow::{Result, anyhow};
 use clap::{Args, ValueEnum};
 use strata::render::wgpu::DeviceType;
 use strata::render::{
-    Attenuation, Colormap, Coverage, GridLines, HiddenLines, Style, WireMode, parse_color,
+    Attenuation, Colormap, Coverage, GridLines, HiddenLines, Isolines, Style, WireMode, parse_color,
 };
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -91,7 +91,7 @@ pub struct StyleArgs {
 impl StyleArgs {
     /// The style these options ask for on an adapter of `device`, colouring
     /// `scalar_range` (a solid colour when `None`), for meshes whose display frame
-    /// starts at map `display_origin`. No isolines: only `strata render` has them.
+    /// starts at map `display_origin`. No isolines: each command adds its own.
     pub fn style(
         &self,
         device: DeviceType,
@@ -145,6 +145,80 @@ pub(crate) fn parse_grid_lines(s: &str) -> Result<(f64, f64, f64), String> {
         ));
     }
     Ok((spacing, x0, y0))
+}
+
+/// Which isolines `--iso` asks for: the spacing (about ten lines over the range when
+/// `None`) and every how many lines one is major.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct IsoSpacing {
+    spacing: Option<f32>,
+    major_every: u32,
+}
+
+impl IsoSpacing {
+    /// The isolines of a field whose values span `range`.
+    pub(crate) fn isolines(&self, range: (f32, f32)) -> Isolines {
+        Isolines {
+            major_every: self.major_every,
+            ..Isolines::new(
+                self.spacing
+                    .unwrap_or_else(|| nice_spacing(range.1 - range.0, 10.0)),
+            )
+        }
+    }
+}
+
+/// PROPERTY[:SPACING[:MAJOR_EVERY]], as `strata render --iso` takes it.
+pub(crate) fn parse_iso(s: &str) -> Result<(String, IsoSpacing), String> {
+    let (name, rest) = s.split_once(':').unwrap_or((s, ""));
+    if name.is_empty() {
+        return Err(format!(
+            "expected PROPERTY[:SPACING[:MAJOR_EVERY]], got {s:?}"
+        ));
+    }
+    Ok((name.to_string(), parse_iso_spacing(rest)?))
+}
+
+/// [SPACING[:MAJOR_EVERY]]: a positive spacing, and every fifth line major by default.
+pub(crate) fn parse_iso_spacing(s: &str) -> Result<IsoSpacing, String> {
+    if s.is_empty() {
+        return Ok(IsoSpacing {
+            spacing: None,
+            major_every: 5,
+        });
+    }
+    let mut parts = s.split(':');
+    let spacing = parts.next().map(|v| {
+        v.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|x| *x > 0.0 && x.is_finite())
+            .ok_or_else(|| format!("{v:?} is not a positive spacing"))
+    });
+    let major = parts
+        .next()
+        .map(|v| v.trim().parse::<u32>().map_err(|e| format!("{v:?}: {e}")))
+        .transpose()?
+        .unwrap_or(5);
+    if parts.next().is_some() {
+        return Err(format!("expected SPACING[:MAJOR_EVERY], got {s:?}"));
+    }
+    Ok(IsoSpacing {
+        spacing: spacing.transpose()?,
+        major_every: major,
+    })
+}
+
+/// A round spacing (1, 2 or 5 times a power of ten) giving about `lines` lines over
+/// `range`.
+fn nice_spacing(range: f32, lines: f32) -> f32 {
+    let raw = (range / lines).max(f32::MIN_POSITIVE);
+    let step = 10f32.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * step)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * step)
 }
 
 fn parse_wire(s: &str) -> Result<WireMode, String> {
@@ -239,6 +313,22 @@ mod tests {
             CoverageArg::Analytic.resolve(DiscreteGpu),
             Coverage::Analytic
         );
+    }
+
+    #[test]
+    fn iso_options_give_a_spacing_or_about_ten_round_lines() {
+        let (name, iso) = parse_iso("PORO").expect("a property alone");
+        assert_eq!(name, "PORO");
+        // Range 0.0615..0.2968: the first round spacing not below a tenth of it.
+        let spacing = iso.isolines((0.0615, 0.2968)).spacing;
+        assert!((spacing - 0.05).abs() < 1e-6, "{spacing}");
+        let (_, iso) = parse_iso("PORO:0.01:4").expect("spacing and major");
+        let lines = iso.isolines((0.0, 1.0));
+        assert_eq!((lines.spacing, lines.major_every), (0.01, 4));
+        assert_eq!(parse_iso_spacing("").map(|i| i.major_every), Ok(5));
+        for bad in [":0.1", "PORO:-1", "PORO:0.1:x", "PORO:0.1:2:3"] {
+            assert!(parse_iso(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]
