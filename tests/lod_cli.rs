@@ -30,25 +30,51 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// Builds the hierarchy of the sample with `options`, views it and returns what the
-/// view printed and its picture.
-fn build_and_view(dir: &Path, name: &str, options: &[&str]) -> (String, image::RgbaImage) {
+/// Builds the hierarchy of the sample with `options` into `lod`.
+fn build_sample(lod: &str, options: &[&str]) {
     let sample = sample();
-    let lod = dir.join(format!("{name}.lod"));
-    let png = dir.join(format!("{name}.png"));
-    let (sample, lod_s, png_s) = (
+    let mut build = vec![
+        "lod",
+        "build",
         sample.to_str().expect("a UTF-8 path"),
-        lod.to_str().expect("a UTF-8 path"),
-        png.to_str().expect("a UTF-8 path"),
-    );
-    let mut build = vec!["lod", "build", sample, "-o", lod_s];
+        "-o",
+        lod,
+    ];
     build.extend_from_slice(options);
     let built = strata(&build);
     assert!(built.status.success(), "lod build: {}", stderr(&built));
-    let viewed = strata(&["lod", "view", lod_s, "--size", "400x300", "-o", png_s]);
-    assert!(viewed.status.success(), "lod view: {}", stderr(&viewed));
-    let picture = image::open(&png).expect("the view wrote a PNG").to_rgba8();
-    (stderr(&viewed), picture)
+}
+
+/// What strata printed running `command` with `options`, drawing at `size` to `png`;
+/// fails the test when it fails.
+fn draw(command: &[&str], png: &Path, size: &str, options: &[&str]) -> String {
+    let mut args = command.to_vec();
+    args.extend_from_slice(&["--size", size, "-o", png.to_str().expect("a UTF-8 path")]);
+    args.extend_from_slice(options);
+    let out = strata(&args);
+    assert!(
+        out.status.success(),
+        "{command:?} {options:?}: {}",
+        stderr(&out)
+    );
+    stderr(&out)
+}
+
+/// What `strata lod view` printed for hierarchy `lod` with `options`, and its picture,
+/// drawn at `size` to `png`.
+fn view_lod(lod: &str, png: &Path, size: &str, options: &[&str]) -> (String, image::RgbaImage) {
+    let printed = draw(&["lod", "view", lod], png, size, options);
+    let picture = image::open(png).expect("the view wrote a PNG").to_rgba8();
+    (printed, picture)
+}
+
+/// Builds the hierarchy of the sample with `options`, views it and returns what the
+/// view printed and its picture.
+fn build_and_view(dir: &Path, name: &str, options: &[&str]) -> (String, image::RgbaImage) {
+    let lod = dir.join(format!("{name}.lod"));
+    let lod_s = lod.to_str().expect("a UTF-8 path");
+    build_sample(lod_s, options);
+    view_lod(lod_s, &dir.join(format!("{name}.png")), "400x300", &[])
 }
 
 /// Pixels that are not the white background, the share of them that are strongly
@@ -249,18 +275,12 @@ fn render_lod_cover_is_offered_below_the_outline_bound_and_draws_the_model() {
 /// `png`.
 fn render_sample(png: &Path, size: &str, options: &[&str]) -> String {
     let sample = sample();
-    let mut args = vec![
-        "render",
-        sample.to_str().expect("a UTF-8 path"),
-        "--size",
+    draw(
+        &["render", sample.to_str().expect("a UTF-8 path")],
+        png,
         size,
-        "-o",
-        png.to_str().expect("a UTF-8 path"),
-    ];
-    args.extend_from_slice(options);
-    let out = strata(&args);
-    assert!(out.status.success(), "render {options:?}: {}", stderr(&out));
-    stderr(&out)
+        options,
+    )
 }
 
 #[test]
@@ -356,28 +376,11 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
         png.to_str().expect("a UTF-8 path"),
     );
     // Tiles of 8 cells: the sample's hierarchy has levels to choose from.
-    let sample = sample();
-    let built = strata(&[
-        "lod",
-        "build",
-        sample.to_str().expect("a UTF-8 path"),
-        "--tile",
-        "8",
-        "-o",
-        lod_s,
-    ]);
-    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    build_sample(lod_s, &["--tile", "8"]);
     let view = |options: &[&str]| {
-        let mut args = vec!["lod", "view", lod_s, "--size", "500x400", "-o", png_s];
-        args.extend_from_slice(&FROM_ABOVE);
+        let mut args = FROM_ABOVE.to_vec();
         args.extend_from_slice(options);
-        let out = strata(&args);
-        assert!(
-            out.status.success(),
-            "lod view {options:?}: {}",
-            stderr(&out)
-        );
-        (stderr(&out), image::open(&png).expect("a PNG").to_rgba8())
+        view_lod(lod_s, &png, "500x400", &args)
     };
     let isolines = |pixels: &str| {
         let (_, plain) = view(&["--pixels", pixels]);
@@ -405,15 +408,7 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     refused(&["--iso", "0"], "not a positive spacing");
     let plain = dir.path().join("plain.lod");
     let plain_s = plain.to_str().expect("a UTF-8 path");
-    let built = strata(&[
-        "lod",
-        "build",
-        sample.to_str().expect("a UTF-8 path"),
-        "--no-property",
-        "-o",
-        plain_s,
-    ]);
-    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    build_sample(plain_s, &["--no-property"]);
     let out = strata(&["lod", "view", plain_s, "--iso", "-o", png_s]);
     assert!(
         !out.status.success() && stderr(&out).contains("no property stored"),
@@ -436,35 +431,10 @@ fn the_hierarchy_view_takes_the_render_style_and_a_layer_range() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let lod = dir.path().join("sample.lod");
     let lod_s = lod.to_str().expect("a UTF-8 path");
-    let sample = sample();
-    let built = strata(&[
-        "lod",
-        "build",
-        sample.to_str().expect("a UTF-8 path"),
-        "-o",
-        lod_s,
-    ]);
-    assert!(built.status.success(), "lod build: {}", stderr(&built));
-    let view = |name: &str, options: &[&str]| -> (String, image::RgbaImage) {
+    build_sample(lod_s, &[]);
+    let view = |name: &str, options: &[&str]| {
         let png = dir.path().join(format!("{name}.png"));
-        let mut args = vec![
-            "lod",
-            "view",
-            lod_s,
-            "--size",
-            "400x300",
-            "-o",
-            png.to_str().expect("a UTF-8 path"),
-        ];
-        args.extend_from_slice(options);
-        let out = strata(&args);
-        assert!(
-            out.status.success(),
-            "lod view {options:?}: {}",
-            stderr(&out)
-        );
-        let picture = image::open(&png).expect("the view wrote a PNG").to_rgba8();
-        (stderr(&out), picture)
+        view_lod(lod_s, &png, "400x300", options)
     };
     let count = |picture: &image::RgbaImage, pick: &dyn Fn([u8; 4]) -> bool| {
         picture.pixels().filter(|p| pick(p.0)).count()

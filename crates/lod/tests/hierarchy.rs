@@ -8,8 +8,23 @@ use std::collections::HashMap;
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
 
 use strata_lod::{
-    BuildOptions, LayerTree, LodFile, NONE, Node, ViewPoint, build_file, build_layer,
+    BuildOptions, LayerRecord, LayerTree, LodFile, NONE, Node, ViewPoint, build_file, build_layer,
 };
+
+/// The full-resolution surface that layer surface `layer` of a file built from `grid`
+/// stores, with `property` as its scalar.
+fn stored_surface(
+    grid: &strata_grid::CornerPointGrid,
+    layer: &LayerRecord,
+    property: Option<&str>,
+) -> SurfaceMesh {
+    let face = if layer.face == 0 {
+        Face::Top
+    } else {
+        Face::Bottom
+    };
+    layer_surface(grid, layer.k as usize, face, property, [0.0; 3]).unwrap()
+}
 
 fn options(tile_cells: u32) -> BuildOptions {
     BuildOptions {
@@ -243,12 +258,7 @@ fn file_round_trip_and_selection() {
         "{levels:?}"
     );
     for (l, layer) in file.layers().iter().enumerate() {
-        let face = if layer.face == 0 {
-            Face::Top
-        } else {
-            Face::Bottom
-        };
-        let surface = layer_surface(&grid, layer.k as usize, face, None, [0.0; 3]).unwrap();
+        let surface = stored_surface(&grid, layer, None);
         let mut cells = vec![0u8; 40 * 30];
         for &i in &chosen {
             let n = &file.nodes()[i as usize];
@@ -283,12 +293,7 @@ fn file_round_trip_and_selection() {
     // Each layer's cells: a bit where its surface has the cell's face, and the face's
     // value; the selection's pieces are its nodes, their boxes the nodes' cells.
     for (l, layer) in file.layers().iter().enumerate() {
-        let face = if layer.face == 0 {
-            Face::Top
-        } else {
-            Face::Bottom
-        };
-        let surface = layer_surface(&grid, layer.k as usize, face, Some("PORO"), [0.0; 3]).unwrap();
+        let surface = stored_surface(&grid, layer, Some("PORO"));
         let (faces, values) = file.layer_cells(l).expect("cells with a property");
         let has = |c: usize| faces[c / 32] >> (c % 32) & 1 != 0;
         assert_eq!(
@@ -329,13 +334,6 @@ fn file_round_trip_and_selection() {
         first += piece.box_cells();
     }
     assert_eq!(first, values.len());
-    assert!(
-        LodFile::open(&plain)
-            .unwrap()
-            .selection_cells(&chosen)
-            .unwrap()
-            .is_none()
-    );
 
     // The corners of those boxes' cells: the full-resolution surface's vertex scalars
     // at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever level the
@@ -350,12 +348,7 @@ fn file_round_trip_and_selection() {
     for (piece, &i) in cover.pieces.iter().zip(&chosen) {
         let n = &file.nodes()[i as usize];
         let layer = &file.layers()[n.layer as usize];
-        let face = if layer.face == 0 {
-            Face::Top
-        } else {
-            Face::Bottom
-        };
-        let surface = layer_surface(&grid, layer.k as usize, face, Some("PORO"), [0.0; 3]).unwrap();
+        let surface = stored_surface(&grid, layer, Some("PORO"));
         let mut want = vec![f32::NAN; 4 * piece.box_cells()];
         for f in &surface.cell_faces {
             let [a, b] = f.triangles.map(|t| surface.triangles[t as usize]);
@@ -380,13 +373,10 @@ fn file_round_trip_and_selection() {
     }
     assert!(checked > 0);
     assert!(chosen.iter().any(|&i| file.nodes()[i as usize].level > 0));
-    assert!(
-        LodFile::open(&plain)
-            .unwrap()
-            .selection_corners(&chosen)
-            .unwrap()
-            .is_none()
-    );
+    // Neither without a property.
+    let plain = LodFile::open(&plain).unwrap();
+    assert!(plain.selection_cells(&chosen).unwrap().is_none());
+    assert!(plain.selection_corners(&chosen).unwrap().is_none());
 }
 
 /// Layers are built in parallel batches, each written while the next is built: the
