@@ -389,7 +389,10 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     };
     let (full, finest) = isolines("0.1");
     let (coarse, coarsest) = isolines("30");
-    assert!(full.contains("(100.0 %)"), "{full}");
+    assert!(
+        full.contains("(100.0 %)") && full.contains("isolines every 0.02"),
+        "{full}"
+    );
     assert!(
         coarse.contains("level 1") && !coarse.contains("level 0"),
         "{coarse}"

@@ -300,7 +300,7 @@ fn view(args: &ViewArgs) -> Result<()> {
     let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
     strata::render::save_png(&image, output)?;
     eprintln!(
-        "{}: drawn with the {} wireframe, {}",
+        "{}: drawn with the {} wireframe, {}{}",
         output.display(),
         wire.name(),
         match scalar_range {
@@ -313,6 +313,10 @@ fn view(args: &ViewArgs) -> Result<()> {
                     "by values interpolated between nodes"
                 }
             ),
+        },
+        match isolines {
+            Some(iso) => format!(", isolines every {}", iso.spacing),
+            None => String::new(),
         }
     );
     Ok(())

@@ -84,7 +84,7 @@ fn cover_word(i: u32) -> u32 {
     return textureLoad(cover_words, vec2<u32>(i % w, i / w), 0).x;
 }
 
-// Where `piece`'s six header words start.
+// Where `piece`'s seven header words start.
 fn piece_header(piece: u32) -> u32 {
     return 1u + 7u * (piece - cover_word(0u));
 }
