@@ -284,7 +284,7 @@ fn render_sample(png: &Path, size: &str, options: &[&str]) -> String {
 }
 
 #[test]
-fn render_lod_says_that_only_the_global_wireframe_colours_by_cell() {
+fn render_lod_says_which_wireframes_colour_by_cell() {
     // The cell colours themselves are measured in strata-render's tests/covered.rs.
     let dir = tempfile::tempdir().expect("a temporary folder");
     let png = dir.path().join("lod.png");
@@ -294,8 +294,10 @@ fn render_lod_says_that_only_the_global_wireframe_colours_by_cell() {
         tex.contains("with --wire tex, colours are interpolated"),
         "{tex}"
     );
-    let global = render("global");
-    assert!(!global.contains("interpolated between"), "{global}");
+    for by_cells in ["global", "none"] {
+        let printed = render(by_cells);
+        assert!(!printed.contains("interpolated between"), "{printed}");
+    }
 }
 
 /// Pixels that isolines darken: a frame drawn with them against one without.
@@ -348,22 +350,35 @@ fn render_lod_draws_the_original_isolines_on_the_decimated_surface() {
     let original = isolines(&[]);
     let f1 = isoline_f1(&isolines(&["--lod", "20"]), &original, "render --lod 20");
     assert!(f1 > 0.9, "the isolines moved: F1 {f1:.3}");
-    for wire in ["tex", "none"] {
-        let out = strata(&[
-            "render",
-            sample().to_str().expect("a UTF-8 path"),
-            "--lod",
-            "20",
-            "--iso",
-            "PORO",
-            "--wire",
-            wire,
-            "-o",
-            png.to_str().expect("a UTF-8 path"),
-        ]);
-        assert!(!out.status.success(), "--wire {wire} is refused");
-        assert!(stderr(&out).contains("--wire global"), "{}", stderr(&out));
-    }
+    // Without the wireframe the cells keep their colours and the isolines stay: the
+    // same picture as with the cell lines made transparent.
+    let picture = |options: &[&str]| {
+        let mut args = vec!["--lod", "20", "--iso", "PORO:0.02"];
+        args.extend_from_slice(options);
+        let printed = render_sample(&png, "500x400", &args);
+        (printed, image::open(&png).expect("a PNG").to_rgba8())
+    };
+    let (_, transparent) = picture(&["--wire-color", "#00000000"]);
+    let (printed, bare) = picture(&["--wire", "none"]);
+    assert!(!printed.contains("interpolated between"), "{printed}");
+    assert!(
+        transparent == bare,
+        "--wire none differs from a transparent wire"
+    );
+    let out = strata(&[
+        "render",
+        sample().to_str().expect("a UTF-8 path"),
+        "--lod",
+        "20",
+        "--iso",
+        "PORO",
+        "--wire",
+        "tex",
+        "-o",
+        png.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(!out.status.success(), "--wire tex is refused");
+    assert!(stderr(&out).contains("--wire global"), "{}", stderr(&out));
 }
 
 #[test]
@@ -399,6 +414,13 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     );
     let f1 = isoline_f1(&coarsest, &finest, "lod view at 30 px");
     assert!(f1 > 0.9, "the isolines moved: F1 {f1:.3}");
+    // Without the wireframe: the same cell colours and isolines.
+    let (_, transparent) = view(&["--pixels", "30", "--iso", "0.02"]);
+    let (_, bare) = view(&["--pixels", "30", "--iso", "0.02", "--wire", "none"]);
+    assert!(
+        transparent == bare,
+        "--wire none differs from a transparent wire"
+    );
 
     let refused = |options: &[&str], says: &str| {
         let mut args = vec!["lod", "view", lod_s, "-o", png_s];

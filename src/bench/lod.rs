@@ -693,6 +693,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                         values: values.as_deref(),
                         corners: None,
                         mask: matches!(method, Method::OursCover),
+                        wire: true,
                     };
                     Some(scene.draw(&mut renderer, &mesh, Some(&cells))?)
                 };

@@ -26,7 +26,8 @@ pub enum LodCommand {
     /// given pixel error, print what was chosen, and draw it to a PNG with the lines
     /// and colours of `strata render`. With --wire global the original grid is drawn
     /// on whatever level is chosen, each cell in its own colour as the model's faces
-    /// are; with the others colours are interpolated between nodes.
+    /// are (as with none, without the grid); with the others colours are interpolated
+    /// between nodes.
     View(ViewArgs),
 }
 
@@ -76,9 +77,9 @@ pub struct ViewArgs {
     #[command(flatten)]
     style: StyleArgs,
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
-    /// its range when no spacing is given; every fifth line major). With --wire global,
-    /// on whatever level is chosen they are the model's, evaluated from the
-    /// full-resolution tiles under the chosen nodes, which this reads.
+    /// its range when no spacing is given; every fifth line major). On whatever level is
+    /// chosen they are the model's, evaluated from the full-resolution tiles under the
+    /// chosen nodes, which this reads (--wire global or none).
     #[arg(long, value_name = "SPACING[:MAJOR_EVERY]", num_args = 0..=1, default_missing_value = "", value_parser = parse_iso_spacing)]
     iso: Option<IsoSpacing>,
     #[command(flatten)]
@@ -248,9 +249,13 @@ fn view(args: &ViewArgs) -> Result<()> {
         Some(_) => colour_range(drawn_values(&file, &drawn)),
     };
     let wire = args.style.wire;
+    // The global coordinates find the model's cells, their colours and isolines, with
+    // or without the model's grid lines over them.
+    let by_cells = matches!(wire, WireMode::Global | WireMode::None);
     let isolines = match (args.iso, scalar_range) {
-        (Some(_), _) if wire != WireMode::Global => bail!(
-            "--iso draws the model's isolines by the global coordinates: --wire global, not {}",
+        (Some(_), _) if !by_cells => bail!(
+            "--iso draws the model's isolines by the global coordinates: --wire global or \
+             none, not {}",
             wire.name()
         ),
         (Some(iso), Some(range)) => Some(iso.isolines(range)),
@@ -259,7 +264,7 @@ fn view(args: &ViewArgs) -> Result<()> {
     };
     let mesh = file.selection_mesh(&chosen)?;
     let mut renderer = Renderer::headless()?;
-    let cells = if wire == WireMode::Global {
+    let cells = if by_cells {
         file.selection_cells(&chosen)?
     } else {
         None
@@ -278,6 +283,7 @@ fn view(args: &ViewArgs) -> Result<()> {
                     values: Some(values),
                     corners: corners.as_deref(),
                     mask: false,
+                    wire: wire == WireMode::Global,
                 },
             )
             .context("preparing the selection over the model's cells")?,
@@ -353,13 +359,15 @@ pub struct SceneCells {
 }
 
 impl SceneCells {
-    pub fn draw(&self) -> CellDraw<'_> {
+    /// What the renderer draws: with `wire`, the input's grid lines too.
+    pub fn draw(&self, wire: bool) -> CellDraw<'_> {
         CellDraw {
             pieces: &self.pieces,
             cover: &self.cover,
             values: self.values.as_deref(),
             corners: self.corners.as_deref(),
             mask: self.mask,
+            wire,
         }
     }
 }

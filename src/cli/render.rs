@@ -57,14 +57,14 @@ pub struct RenderArgs {
     iso_adjust: RangeAdjust,
     /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
-    /// the decimated triangles. With global, each cell keeps its own colour (looked up
-    /// by the global coordinates); with the others, colours are interpolated between
-    /// nodes (decimated triangles are no longer cells). Says when PERCENT is below the
+    /// the decimated triangles. With global or none, each cell keeps its own colour
+    /// (looked up by the global coordinates); with the others, colours are interpolated
+    /// between nodes (decimated triangles are no longer cells). Says when PERCENT is below the
     /// triangles that keep every corner of the outlines, holes and fault traces; there
     /// meshoptimizer's simplify decimates instead, its result fitted to the original
-    /// grid lines (as strata's is just above that). With --iso, drawn with --wire
-    /// global, the isolines are the original's: each fragment evaluates the original
-    /// surface's field from its global coordinates, as it takes its cell's colour.
+    /// grid lines (as strata's is just above that). With --iso the isolines are the
+    /// original's: each fragment evaluates the original surface's field from its global
+    /// coordinates, as it takes its cell's colour (--wire global or none).
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent)]
     lod: Option<f64>,
     /// With --lod: let the outlines, holes and fault traces grow only outward in the
@@ -112,28 +112,24 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             wire.name()
         );
     }
-    if args.lod.is_some() && args.iso.is_some() && wire != WireMode::Global {
-        bail!(
-            "--lod with --iso draws the original's isolines by the global coordinates: \
-             --wire global, not {}",
-            wire.name()
-        );
-    }
     let global = wire == WireMode::Global;
+    // The global coordinates find the original's cells, their colours and isolines,
+    // with or without the original's grid lines over them.
+    let by_cells = global || wire == WireMode::None;
     let (mesh, mut cells) = match args.lod {
         Some(percent) => super::lod::decimate_scene(
             &mesh,
             percent,
             args.frame.zscale,
             args.cover,
-            global && (!mesh.scalars.is_empty() || args.iso.is_some()),
+            by_cells && (!mesh.scalars.is_empty() || args.iso.is_some()),
         )?,
         None => (mesh, None),
     };
-    if args.lod.is_some() && !mesh.scalars.is_empty() && !global {
+    if args.lod.is_some() && !mesh.scalars.is_empty() && !by_cells {
         eprintln!(
             "note: with --wire {}, colours are interpolated between the decimated surface's \
-             nodes; --wire global colours each cell as the original does",
+             nodes; --wire global or none colours each cell as the original does",
             wire.name()
         );
     }
@@ -165,7 +161,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut renderer = Renderer::headless()?;
     let drawable = match (&cells, &iso) {
         (Some(cells), _) => renderer
-            .prepare_cells(&mesh, &cells.draw())
+            .prepare_cells(&mesh, &cells.draw(global))
             .context("preparing the global wireframe over the original's cells")?,
         (None, Some((Some(field), ..))) => renderer.prepare_isolines(
             &mesh,

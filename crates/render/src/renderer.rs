@@ -122,8 +122,8 @@ pub struct Renderer {
     bind_group: wgpu::BindGroup,
     techniques: HashMap<WireMode, Box<dyn Technique>>,
     isolines: Option<IsolineTechnique>,
-    /// Without and with the mask.
-    cells: [Option<wire::CellTechnique>; 2],
+    /// Without and with the mask, then both without the wire.
+    cells: [Option<wire::CellTechnique>; 4],
     targets: Option<Targets>,
 }
 
@@ -216,7 +216,7 @@ impl Renderer {
             bind_group,
             techniques: HashMap::new(),
             isolines: None,
-            cells: [None, None],
+            cells: [None, None, None, None],
             targets: None,
         })
     }
@@ -233,8 +233,10 @@ impl Renderer {
         validated(&self.gpu, || technique.prepare(&self.gpu, mesh))
     }
 
-    /// Uploads a decimated `mesh` for drawing with the global wireframe against the
-    /// cells of the surface it was simplified from: coloured cell by cell as the
+    /// Uploads a decimated `mesh` for drawing with the global wireframe (without it
+    /// unless `cells.wire`) against the cells of the surface it was simplified from,
+    /// with the original's isolines where `cells.corners` are given: coloured cell by
+    /// cell as the
     /// original's faces are (with `cells.values`), and with `cells.mask` only over the
     /// original's cells, so that a surface decimated with `strata_lod::Options::cover`
     /// draws the original's outlines, holes and fault traces. Cells of any number of
@@ -245,13 +247,15 @@ impl Renderer {
         cells: &CellDraw,
     ) -> Result<Box<dyn Drawable>> {
         validated(&self.gpu, || {
-            let technique = self.cells[usize::from(cells.mask)].get_or_insert_with(|| {
+            let slot = usize::from(cells.mask) + 2 * usize::from(!cells.wire);
+            let technique = self.cells[slot].get_or_insert_with(|| {
                 wire::CellTechnique::new(
                     &PipelineContext {
                         gpu: &self.gpu,
                         frame_layout: &self.frame_layout,
                     },
                     cells.mask,
+                    cells.wire,
                 )
             });
             technique.prepare(&self.gpu, mesh, cells)

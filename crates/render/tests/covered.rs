@@ -67,19 +67,24 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     };
     let original = r.prepare(&mesh, WireMode::Global).expect("original");
     let original = frame(&mut r, original.as_ref());
-    let masked = r
-        .prepare_cells(
-            &out.mesh,
-            &CellDraw {
-                pieces: &pieces,
-                cover: &cover,
-                values: None,
-                corners: None,
-                mask: true,
-            },
-        )
-        .expect("covered");
-    let masked = frame(&mut r, masked.as_ref());
+    let mut masked_with = |wire: bool| {
+        let drawable = r
+            .prepare_cells(
+                &out.mesh,
+                &CellDraw {
+                    pieces: &pieces,
+                    cover: &cover,
+                    values: None,
+                    corners: None,
+                    mask: true,
+                    wire,
+                },
+            )
+            .expect("covered");
+        frame(&mut r, drawable.as_ref())
+    };
+    let masked = masked_with(true);
+    let bare = masked_with(false);
     let unmasked = r.prepare(&out.mesh, WireMode::Global).expect("unmasked");
     let unmasked = frame(&mut r, unmasked.as_ref());
 
@@ -107,6 +112,9 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
         with_mask < surface / 500,
         "{with_mask} pixels differ with the mask"
     );
+    // Without the wire, the same mask and no line.
+    assert_eq!(surface_difference(&masked, &bare), 0);
+    assert_eq!(lines(&bare), 0, "grid lines without the wire");
     let line_change = lines(&original).abs_diff(lines(&masked));
     assert!(
         line_change * 50 < lines(&original),
@@ -283,6 +291,7 @@ fn compare_cell_colours(
         values: Some(values),
         corners: None,
         mask: false,
+        wire: true,
     };
     let mut r = renderer();
     let view = top_view(original);
@@ -362,6 +371,7 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
         values: None,
         corners: None,
         mask: true,
+        wire: true,
     };
     let err = r
         .prepare_cells(&mesh, &draw(&cover.vertex_piece[1..]))

@@ -363,6 +363,7 @@ fn a_decimated_surface_draws_the_original_isolines_from_its_cells_corners() {
                     values: None,
                     corners,
                     mask: false,
+                    wire: true,
                 },
             )
             .expect("prepare cells");

@@ -368,9 +368,9 @@ impl Drawable for PulledDraw {
 }
 
 /// The global wireframe over a decimated surface, drawn against the cells of the
-/// surface it was simplified from (`fs_uv_cells`, and with the mask `fs_uv_cover`):
-/// each vertex carries its piece of [`CellCover`], and a texture holds the pieces'
-/// cells and, when given, their values.
+/// surface it was simplified from (`fs_uv_cells`, and with the mask `fs_uv_cover`; the
+/// `_bare` entries without the wireframe): each vertex carries its piece of
+/// [`CellCover`], and a texture holds the pieces' cells and, when given, their values.
 pub struct CellTechnique {
     mask: bool,
     pipelines: [wgpu::RenderPipeline; 4],
@@ -405,11 +405,15 @@ pub struct CellDraw<'a> {
     /// Discard the fragments over cells their piece does not cover: for surfaces
     /// decimated with strata-lod's `Options::cover`, whose outlines only grew outward.
     pub mask: bool,
+    /// Draw the original's grid lines (the global wireframe); without, the cells'
+    /// colours and the isolines only.
+    pub wire: bool,
 }
 
 impl CellTechnique {
-    /// The pipelines of `fs_uv_cover` with `mask`, else of `fs_uv_cells`.
-    pub fn new(ctx: &PipelineContext, mask: bool) -> Self {
+    /// The pipelines of `fs_uv_cover` with `mask`, else of `fs_uv_cells`; their
+    /// `_bare` forms without `wire`.
+    pub fn new(ctx: &PipelineContext, mask: bool, wire: bool) -> Self {
         let device = &ctx.gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("cell cover"),
@@ -437,7 +441,12 @@ impl CellTechnique {
                 attributes: &PIECE_ATTRIBUTES,
             }),
         ];
-        let fragment = if mask { "fs_uv_cover" } else { "fs_uv_cells" };
+        let fragment = match (mask, wire) {
+            (true, true) => "fs_uv_cover",
+            (true, false) => "fs_uv_cover_bare",
+            (false, true) => "fs_uv_cells",
+            (false, false) => "fs_uv_cells_bare",
+        };
         let pipelines = texture_pipelines(
             ctx,
             cells_label(mask),
@@ -453,8 +462,8 @@ impl CellTechnique {
         }
     }
 
-    /// Uploads `mesh`, drawn against the cells of `cells` (whose mask is this
-    /// technique's). A cover larger than one texture of the adapter holds is cut into
+    /// Uploads `mesh`, drawn against the cells of `cells` (whose mask and wire are
+    /// this technique's). A cover larger than one texture of the adapter holds is cut into
     /// batches of pieces, each with its texture and draw.
     pub fn prepare(
         &self,
@@ -836,13 +845,14 @@ mod tests {
         let corners = cover.corner_values(&field).expect("corner values");
         let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 5 * 36;
         let mut r = Renderer::headless().expect("renderer");
-        let technique = CellTechnique::new(&r.context(), false);
+        let technique = CellTechnique::new(&r.context(), false, true);
         let draw = |values, corners| CellDraw {
             pieces: &cover.vertex_piece,
             cover: &cover,
             values,
             corners,
             mask: false,
+            wire: true,
         };
         let (lo, hi) = mesh.bounds().expect("bounds");
         let view = View {

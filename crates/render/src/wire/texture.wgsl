@@ -43,18 +43,21 @@ fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
 
 @fragment
 fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
-    return uv_colour(in, in.scalar, in.scalar);
+    return uv_colour(in, in.scalar, in.scalar, true);
 }
 
-// The surface coloured by `colour_scalar` under the two line families of `in.uv`;
-// isolines follow `iso_scalar`.
-fn uv_colour(in: UvOut, colour_scalar: f32, iso_scalar: f32) -> vec4<f32> {
+// The surface coloured by `colour_scalar`, with `wire` under the two line families of
+// `in.uv`; isolines follow `iso_scalar`.
+fn uv_colour(in: UvOut, colour_scalar: f32, iso_scalar: f32, wire: bool) -> vec4<f32> {
     let dpx = dpdx(in.wp);
     let dpy = dpdy(in.wp);
     let du = dpdx(in.uv);
     let dv = dpdy(in.uv);
     let a = depth_fraction(in.wp);
-    let cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
+    var cov = 0.0;
+    if wire {
+        cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
+    }
     let base = base_color(colour_scalar);
     let extra = extra_lines(in.wp, iso_coordinate(iso_scalar), iso_scalar > UNDEFINED_SCALAR, a);
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
@@ -149,13 +152,31 @@ fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(
     return CoverOut(clip(wp), wp, uv, scalar, piece);
 }
 
+// A fragment of a decimated surface in `cell` of the original's (-1: none): its
+// cell's colour, the original's isolines and, with `wire`, the global wireframe.
+fn cell_colour(in: CoverOut, cell: i32, wire: bool) -> vec4<f32> {
+    let surface = UvOut(in.position, in.wp, in.uv, in.scalar);
+    return uv_colour(surface, cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar), wire);
+}
+
 // The global wireframe drawn only over the cells of the original surface: a decimated
 // surface whose outlines grew outward (strata-lod's `Options::cover`) loses what it
 // gained, and its outlines, holes and fault traces are the original's.
 @fragment
 fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
     let cell = covered_cell(in.piece, in.uv);
-    let colour = uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar));
+    let colour = cell_colour(in, cell, true);
+    if cell < 0 {
+        discard;
+    }
+    return colour;
+}
+
+// fs_uv_cover without the wireframe.
+@fragment
+fn fs_uv_cover_bare(in: CoverOut) -> @location(0) vec4<f32> {
+    let cell = covered_cell(in.piece, in.uv);
+    let colour = cell_colour(in, cell, false);
     if cell < 0 {
         discard;
     }
@@ -166,8 +187,13 @@ fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
 // original has the cell, with nothing discarded.
 @fragment
 fn fs_uv_cells(in: CoverOut) -> @location(0) vec4<f32> {
-    let cell = covered_cell(in.piece, in.uv);
-    return uv_colour(UvOut(in.position, in.wp, in.uv, in.scalar), cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar));
+    return cell_colour(in, covered_cell(in.piece, in.uv), true);
+}
+
+// fs_uv_cells without the wireframe.
+@fragment
+fn fs_uv_cells_bare(in: CoverOut) -> @location(0) vec4<f32> {
+    return cell_colour(in, covered_cell(in.piece, in.uv), false);
 }
 
 @vertex
