@@ -774,62 +774,79 @@ impl LodFile {
         if !self.has_scalars() {
             return Ok(None);
         }
-        let node = |i: u32| {
-            self.nodes()
-                .get(i as usize)
-                .ok_or_else(|| Error::Option(format!("no node {i}")))
+        let sizes = selection
+            .iter()
+            .map(|&i| {
+                let [i0, j0, i1, j1] = self.node(i)?.cells.map(|c| c as usize);
+                Ok(4 * i1.saturating_sub(i0) * j1.saturating_sub(j0))
+            })
+            .collect::<Result<Vec<usize>>>()?;
+        let mut corners = vec![f32::NAN; sizes.iter().sum()];
+        let mut boxes = Vec::with_capacity(sizes.len());
+        let mut rest = &mut corners[..];
+        for size in sizes {
+            let (this, next) = rest.split_at_mut(size);
+            boxes.push(this);
+            rest = next;
+        }
+        selection
+            .par_iter()
+            .zip(boxes)
+            .try_for_each(|(&i, out)| self.node_corners(i, out))?;
+        Ok(Some(corners))
+    }
+
+    /// Node `i`, or an error naming it.
+    fn node(&self, i: u32) -> Result<&NodeRecord> {
+        self.nodes()
+            .get(i as usize)
+            .ok_or_else(|| Error::Option(format!("no node {i}")))
+    }
+
+    /// [`LodFile::selection_corners`] of node `i` into `out`, four per cell of its box.
+    fn node_corners(&self, i: u32, out: &mut [f32]) -> Result<()> {
+        let [i0, j0, i1, j1] = self.node(i)?.cells.map(i64::from);
+        let piece = CoverPiece {
+            origin: [i0, j0].map(|c| i32::try_from(c).unwrap_or(i32::MAX)),
+            size: [i1 - i0, j1 - j0].map(|c| u32::try_from(c).unwrap_or(0)),
+            bits: Vec::new(),
         };
-        let mut corners = Vec::new();
-        for &i in selection {
-            let n = node(i)?;
-            let [i0, j0, i1, j1] = n.cells.map(i64::from);
-            let first = corners.len();
-            corners.resize(
-                first + 4 * ((i1 - i0) * (j1 - j0)).max(0) as usize,
-                f32::NAN,
-            );
-            let piece = CoverPiece {
-                origin: [i0, j0].map(|c| i32::try_from(c).unwrap_or(i32::MAX)),
-                size: [i1 - i0, j1 - j0].map(|c| u32::try_from(c).unwrap_or(0)),
-                bits: Vec::new(),
-            };
-            let mut stack = vec![i];
-            while let Some(k) = stack.pop() {
-                let m = node(k)?;
-                if m.level > 0 {
-                    for c in m.first_child..m.first_child.saturating_add(m.child_count) {
-                        if node(c)?.level >= m.level {
-                            return Err(Error::Option(format!(
-                                "node {c}, a child of node {k}, is not on a finer level"
-                            )));
-                        }
-                        stack.push(c);
+        let mut stack = vec![i];
+        while let Some(k) = stack.pop() {
+            let m = self.node(k)?;
+            if m.level > 0 {
+                for c in m.first_child..m.first_child.saturating_add(m.child_count) {
+                    if self.node(c)?.level >= m.level {
+                        return Err(Error::Option(format!(
+                            "node {c}, a child of node {k}, is not on a finer level"
+                        )));
                     }
-                    continue;
+                    stack.push(c);
                 }
-                let vertices = self.vertices(k as usize);
-                let indices = self.indices(k as usize);
-                for t in 0..indices.len() / 3 {
-                    let tri = [0, 1, 2].map(|c| vertices.get(indices.get(3 * t + c) as usize));
-                    let [Some(a), Some(b), Some(c)] = tri else {
-                        return Err(Error::Option(format!(
-                            "node {k}: triangle {t} names a vertex the node does not have"
-                        )));
-                    };
-                    let tri = [a, b, c];
-                    let slot = cell_corners(tri.map(|v| v.texcoord))
-                        .and_then(|(cell, at)| Some((piece.slot(cell)?, at)));
-                    let Some((slot, at)) = slot else {
-                        return Err(Error::Option(format!(
-                            "node {k}: triangle {t} is not a half of a cell of node {i}"
-                        )));
-                    };
-                    for (v, c) in tri.iter().zip(at) {
-                        corners[first + 4 * slot + c] = v.scalar;
-                    }
+                continue;
+            }
+            let vertices = self.vertices(k as usize);
+            let indices = self.indices(k as usize);
+            for t in 0..indices.len() / 3 {
+                let tri = [0, 1, 2].map(|c| vertices.get(indices.get(3 * t + c) as usize));
+                let [Some(a), Some(b), Some(c)] = tri else {
+                    return Err(Error::Option(format!(
+                        "node {k}: triangle {t} names a vertex the node does not have"
+                    )));
+                };
+                let tri = [a, b, c];
+                let slot = cell_corners(tri.map(|v| v.texcoord))
+                    .and_then(|(cell, at)| Some((piece.slot(cell)?, at)));
+                let Some((slot, at)) = slot else {
+                    return Err(Error::Option(format!(
+                        "node {k}: triangle {t} is not a half of a cell of node {i}"
+                    )));
+                };
+                for (v, c) in tri.iter().zip(at) {
+                    out[4 * slot + c] = v.scalar;
                 }
             }
         }
-        Ok(Some(corners))
+        Ok(())
     }
 }
