@@ -335,6 +335,68 @@ fn measure_unwired(
 }
 
 #[test]
+fn a_flat_patch_on_a_line_value_is_clear_and_its_edge_is_the_line() {
+    let mut r = renderer();
+    // A plateau at 0.25 inside the circle r = 0.5 of the paraboloid x² + y²: its
+    // triangles are flat at exactly the value of the one line drawn.
+    let mut mesh = paraboloid(32, 1.0);
+    for f in &mut mesh.scalars {
+        *f = f.max(0.25);
+    }
+    let view = head_on();
+    let (centre, px) = screen_frame(&view);
+    for (adjust, coverage) in [
+        (RangeAdjust::On, Coverage::Texture),
+        (RangeAdjust::Off, Coverage::Analytic),
+    ] {
+        let drawable = r
+            .prepare_isolines(
+                &mesh,
+                None,
+                IsolineOptions {
+                    adjust,
+                    wire: false,
+                },
+            )
+            .expect("prepare isolines");
+        let image = r
+            .render(
+                &[drawable.as_ref()],
+                &view,
+                &style(single(0.25, 1.0), coverage),
+            )
+            .expect("render");
+        let frame = Frame::new(&image);
+        // Line pixels by distance from the centre, in plane units.
+        let (mut inside, mut edge) = (0, 0);
+        for y in 0..SIZE as i64 {
+            for x in 0..SIZE as i64 {
+                let Some((c, true)) = frame.at(x, y) else {
+                    continue;
+                };
+                let d = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) - centre).length() / px;
+                if c > 0.5 && d < 0.35 {
+                    inside += 1;
+                }
+                if c > 0.5 && (0.4..0.55).contains(&d) {
+                    edge += 1;
+                }
+            }
+        }
+        eprintln!(
+            "{} plateau {adjust:?} {coverage:?}: {inside} line pixels inside, {edge} at its edge",
+            support::backend(&r)
+        );
+        assert_eq!(inside, 0, "{adjust:?}: the plateau is drawn as a line");
+        // The edge is about 2 pi 0.5 256 = 804 px around, the line sigma wide.
+        assert!(
+            edge > 800,
+            "{adjust:?}: the plateau's edge has {edge} line pixels"
+        );
+    }
+}
+
+#[test]
 fn a_decimated_surface_draws_the_original_isolines_from_its_cells_corners() {
     let mut r = renderer();
     let mesh = paraboloid(32, 1.0);

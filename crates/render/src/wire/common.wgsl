@@ -204,12 +204,16 @@ fn extra_lines_floored(wp: vec3<f32>, s: f32, defined: bool, a: f32, min_grad: f
     // nothing for them.
     var iso = 0.0;
     if frame.iso.w > 0.5 {
-        let ds = max(length(vec2<f32>(dpdx(s), dpdy(s))), min_grad);
+        let grad = length(vec2<f32>(dpdx(s), dpdy(s)));
+        let ds = max(grad, min_grad);
         // The nearest line is 2 floor(s / 2) + 1, the floor(s / 2)-th from the offset.
         let index = floor(0.5 * s);
         let every = frame.iso.z;
         let major = every < 1.5 || abs(index - every * round(index / every)) < 0.5;
-        if defined {
+        // A flat patch of the field (a triangle with three equal corners) lying on a
+        // line's value is not a line: it is left clear, and the line is drawn where
+        // the field leaves that value, by the sloping neighbours.
+        if defined && grad > 0.0 {
             iso = coverage(s, ds, a) * frame.iso_color.a * select(0.5, 1.0, major);
         }
     }
