@@ -210,15 +210,16 @@ pub(crate) fn parse_iso_spacing(s: &str) -> Result<IsoSpacing, String> {
 }
 
 /// A round spacing (1, 2 or 5 times a power of ten) giving about `lines` lines over
-/// `range`.
+/// `range`; worked out in f64 so that it is the f32 nearest the round number (0.05,
+/// not 0.049999997).
 fn nice_spacing(range: f32, lines: f32) -> f32 {
-    let raw = (range / lines).max(f32::MIN_POSITIVE);
-    let step = 10f32.powf(raw.log10().floor());
+    let raw = (f64::from(range) / f64::from(lines)).max(f64::from(f32::MIN_POSITIVE));
+    let power = raw.log10().floor() as i32;
     [1.0, 2.0, 5.0, 10.0]
         .into_iter()
-        .map(|m| m * step)
+        .map(|m| m * 10f64.powi(power))
         .find(|s| *s >= raw)
-        .unwrap_or(10.0 * step)
+        .unwrap_or(10f64.powi(power + 1)) as f32
 }
 
 fn parse_wire(s: &str) -> Result<WireMode, String> {
@@ -320,8 +321,7 @@ mod tests {
         let (name, iso) = parse_iso("PORO").expect("a property alone");
         assert_eq!(name, "PORO");
         // Range 0.0615..0.2968: the first round spacing not below a tenth of it.
-        let spacing = iso.isolines((0.0615, 0.2968)).spacing;
-        assert!((spacing - 0.05).abs() < 1e-6, "{spacing}");
+        assert_eq!(iso.isolines((0.0615, 0.2968)).spacing, 0.05);
         let (_, iso) = parse_iso("PORO:0.01:4").expect("spacing and major");
         let lines = iso.isolines((0.0, 1.0));
         assert_eq!((lines.spacing, lines.major_every), (0.01, 4));
