@@ -159,28 +159,29 @@ fn cell_colour(in: CoverOut, cell: i32, wire: bool) -> vec4<f32> {
     return uv_colour(surface, cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar), wire);
 }
 
-// The global wireframe drawn only over the cells of the original surface: a decimated
-// surface whose outlines grew outward (strata-lod's `Options::cover`) loses what it
-// gained, and its outlines, holes and fault traces are the original's.
-@fragment
-fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
+// cell_colour drawn only over the cells of the original surface: a decimated surface
+// whose outlines grew outward (strata-lod's `Options::cover`) loses what it gained, and
+// its outlines, holes and fault traces are the original's. The colour is found before
+// the discard, which would leave the derivatives it takes outside uniform control flow.
+fn covered_colour(in: CoverOut, wire: bool) -> vec4<f32> {
     let cell = covered_cell(in.piece, in.uv);
-    let colour = cell_colour(in, cell, true);
+    let colour = cell_colour(in, cell, wire);
     if cell < 0 {
         discard;
     }
     return colour;
 }
 
+// The global wireframe over the original's cells only.
+@fragment
+fn fs_uv_cover(in: CoverOut) -> @location(0) vec4<f32> {
+    return covered_colour(in, true);
+}
+
 // fs_uv_cover without the wireframe.
 @fragment
 fn fs_uv_cover_bare(in: CoverOut) -> @location(0) vec4<f32> {
-    let cell = covered_cell(in.piece, in.uv);
-    let colour = cell_colour(in, cell, false);
-    if cell < 0 {
-        discard;
-    }
-    return colour;
+    return covered_colour(in, false);
 }
 
 // The global wireframe over a decimated surface, coloured cell by cell where the
