@@ -725,16 +725,13 @@ impl LodFile {
         let mut cover = CellCover::default();
         let mut values = Vec::new();
         for &i in selection {
-            let n = self
-                .nodes()
-                .get(i as usize)
-                .ok_or_else(|| Error::Option(format!("no node {i}")))?;
+            let (n, mut piece) = self.node_box(i)?;
             let Some((faces, layer_values)) = self.layer_cells(n.layer as usize) else {
                 return Ok(None);
             };
             let [i0, j0, i1, j1] = n.cells.map(|c| c as usize);
-            let size = [i1 - i0, j1 - j0];
-            let mut bits = vec![0u32; (size[0] * size[1]).div_ceil(32)];
+            let size = piece.size.map(|s| s as usize);
+            let mut bits = vec![0u32; piece.box_cells().div_ceil(32)];
             for (y, j) in (j0..j1).enumerate() {
                 for (x, i) in (i0..i1).enumerate() {
                     let c = j * ni + i;
@@ -745,21 +742,12 @@ impl LodFile {
                 }
                 values.extend_from_slice(&layer_values[j * ni + i0..j * ni + i1]);
             }
-            let piece = cover.pieces.len() as u32;
+            let index = cover.pieces.len() as u32;
             cover
                 .vertex_piece
-                .extend(std::iter::repeat_n(piece, n.vertex_count as usize));
-            let origin = [i0, j0].map(|c| i32::try_from(c).ok());
-            let [Some(oi), Some(oj)] = origin else {
-                return Err(Error::Option(format!(
-                    "node {i}: cells from ({i0}, {j0}) are beyond a cell cover's reach"
-                )));
-            };
-            cover.pieces.push(CoverPiece {
-                origin: [oi, oj],
-                size: size.map(|s| s as u32),
-                bits,
-            });
+                .extend(std::iter::repeat_n(index, n.vertex_count as usize));
+            piece.bits = bits;
+            cover.pieces.push(piece);
         }
         Ok(Some((cover, values)))
     }
@@ -774,25 +762,24 @@ impl LodFile {
         if !self.has_scalars() {
             return Ok(None);
         }
-        let sizes = selection
+        let pieces = selection
             .iter()
-            .map(|&i| {
-                let [i0, j0, i1, j1] = self.node(i)?.cells.map(|c| c as usize);
-                Ok(4 * i1.saturating_sub(i0) * j1.saturating_sub(j0))
-            })
-            .collect::<Result<Vec<usize>>>()?;
-        let mut corners = vec![f32::NAN; sizes.iter().sum()];
-        let mut boxes = Vec::with_capacity(sizes.len());
+            .map(|&i| Ok(self.node_box(i)?.1))
+            .collect::<Result<Vec<CoverPiece>>>()?;
+        let mut corners =
+            vec![f32::NAN; 4 * pieces.iter().map(CoverPiece::box_cells).sum::<usize>()];
+        let mut boxes = Vec::with_capacity(pieces.len());
         let mut rest = &mut corners[..];
-        for size in sizes {
-            let (this, next) = rest.split_at_mut(size);
+        for piece in &pieces {
+            let (this, next) = rest.split_at_mut(4 * piece.box_cells());
             boxes.push(this);
             rest = next;
         }
         selection
             .par_iter()
+            .zip(&pieces)
             .zip(boxes)
-            .try_for_each(|(&i, out)| self.node_corners(i, out))?;
+            .try_for_each(|((&i, piece), out)| self.node_corners(i, piece, out))?;
         Ok(Some(corners))
     }
 
@@ -803,14 +790,27 @@ impl LodFile {
             .ok_or_else(|| Error::Option(format!("no node {i}")))
     }
 
-    /// [`LodFile::selection_corners`] of node `i` into `out`, four per cell of its box.
-    fn node_corners(&self, i: u32, out: &mut [f32]) -> Result<()> {
-        let [i0, j0, i1, j1] = self.node(i)?.cells.map(i64::from);
+    /// Node `i` and the box of its cells as a piece of a selection's cover (no bits
+    /// yet).
+    fn node_box(&self, i: u32) -> Result<(&NodeRecord, CoverPiece)> {
+        let n = self.node(i)?;
+        let [i0, j0, i1, j1] = n.cells;
+        let [Ok(oi), Ok(oj)] = [i0, j0].map(i32::try_from) else {
+            return Err(Error::Option(format!(
+                "node {i}: cells from ({i0}, {j0}) are beyond a cell cover's reach"
+            )));
+        };
         let piece = CoverPiece {
-            origin: [i0, j0].map(|c| i32::try_from(c).unwrap_or(i32::MAX)),
-            size: [i1 - i0, j1 - j0].map(|c| u32::try_from(c).unwrap_or(0)),
+            origin: [oi, oj],
+            size: [i1.saturating_sub(i0), j1.saturating_sub(j0)],
             bits: Vec::new(),
         };
+        Ok((n, piece))
+    }
+
+    /// [`LodFile::selection_corners`] of node `i`, whose box is `piece`, into `out`,
+    /// four per cell of the box.
+    fn node_corners(&self, i: u32, piece: &CoverPiece, out: &mut [f32]) -> Result<()> {
         let mut stack = vec![i];
         while let Some(k) = stack.pop() {
             let m = self.node(k)?;
