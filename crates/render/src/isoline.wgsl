@@ -18,8 +18,6 @@ struct IsoParams {
 
 // Corner records: x, y, z, u, v, colour scalar, isoline field.
 const CORNER_FLOATS: u32 = 7u;
-// Written for triangles with an undefined corner: no isoline there.
-const ISO_UNDEFINED: f32 = -3.0e38;
 // After the adjust a coordinate unit spans at most 64 px (gradient >= 1/64 units per
 // pixel): far from magnifying any wireframe texture (4096 texels per unit) and far
 // from the saturation cap, which only bites when a unit spans fewer than
@@ -164,7 +162,7 @@ fn shade_iso(in: IsoOut, wire: bool) -> vec4<f32> {
     if frame.line.z < 0.5 {
         floor_grad = 2.0 / f32(textureDimensions(wire_tex, 0).x);
     }
-    let extra = extra_lines_floored(in.wp, in.s, in.s > UNDEFINED_SCALAR, a, floor_grad);
+    let extra = extra_lines_floored(in.wp, in.s, a, floor_grad);
     let base = base_color(in.scalar);
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
 }

@@ -396,6 +396,103 @@ fn a_flat_patch_on_a_line_value_is_clear_and_its_edge_is_the_line() {
     }
 }
 
+/// The line pixels of `mesh` seen at a grazing angle in perspective (depth, and so the
+/// perspective-correct interpolation, changes across every triangle), with isolines
+/// `iso` drawn by the isoline technique with each range adjust and by the global
+/// wireframe's fragment path.
+fn grazing_line_pixels(
+    r: &mut Renderer,
+    mesh: &SurfaceMesh,
+    iso: Isolines,
+) -> Vec<(String, usize)> {
+    let mut camera = Camera::look_at(Vec3::new(0.0, -2.6, 0.35), Vec3::ZERO, Vec3::Z);
+    camera.fov_y_deg = 35.0;
+    let view = View {
+        camera,
+        width: SIZE,
+        height: SIZE,
+        bounds: (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0)),
+    };
+    let mut drawables = Vec::new();
+    for adjust in [RangeAdjust::On, RangeAdjust::Off] {
+        let options = IsolineOptions {
+            adjust,
+            wire: false,
+        };
+        let drawable = r
+            .prepare_isolines(mesh, None, options)
+            .expect("prepare isolines");
+        drawables.push((format!("isoline technique, adjust {adjust:?}"), drawable));
+    }
+    let global = r.prepare(mesh, WireMode::Global).expect("prepare global");
+    drawables.push(("global wireframe's fragment path".to_string(), global));
+    let unwired = Style {
+        wire_color: [1.0, 1.0, 1.0, 0.0],
+        ..style(iso, Coverage::Analytic)
+    };
+    drawables
+        .into_iter()
+        .map(|(label, drawable)| {
+            let image = r
+                .render(&[drawable.as_ref()], &view, &unwired)
+                .expect("render");
+            let frame = Frame::new(&image);
+            let surface = frame.surface.iter().filter(|&&s| s).count();
+            assert!(surface > 20_000, "{label}: the plane covers {surface} px");
+            let lines = frame
+                .coverage
+                .iter()
+                .zip(&frame.surface)
+                .filter(|&(&c, &s)| s && c > 0.1)
+                .count();
+            (label, lines)
+        })
+        .collect()
+}
+
+#[test]
+fn a_field_flat_at_a_line_value_shows_no_rounding_speckle_at_a_grazing_angle() {
+    let mut r = renderer();
+    // Lines every 0.01 from 0.08, as strata picks them for SPE9's porosity.
+    let porosity = Isolines {
+        offset: 0.08,
+        ..Isolines::new(0.01)
+    };
+    // Every value SPE9's layers carry, each a whole plane at one porosity: several
+    // lie on a line's value up to f32 rounding. Before the rounding was allowed
+    // for, these planes sprayed line pixels wherever the interpolated value rounded
+    // to within a pixel's gradient of the line (33 355 px on SPE9's render). And a
+    // structure map's depth, 2000 m on a 10 m line: interpolating the depth itself
+    // would round it 200 times coarser than its line coordinate.
+    let flat = (8..=17)
+        .map(|k| (0.01 * k as f32, porosity))
+        .chain([(2000.0, Isolines::new(10.0))]);
+    for (value, iso) in flat {
+        let mut mesh = paraboloid(16, 0.0);
+        mesh.scalars.fill(value);
+        for (label, lines) in grazing_line_pixels(&mut r, &mesh, iso) {
+            eprintln!(
+                "{} plane at {value}, {label}: {lines} line pixels",
+                support::backend(&r)
+            );
+            assert_eq!(lines, 0, "{label}: a plane flat at {value} shows lines");
+        }
+    }
+    // The same view draws a line that is there: the plane sloping through 0.13 along
+    // y, the line across the whole plane.
+    let mut mesh = paraboloid(16, 0.0);
+    for (f, p) in mesh.scalars.iter_mut().zip(&mesh.positions) {
+        *f = 0.13 + 0.004 * p[1];
+    }
+    for (label, lines) in grazing_line_pixels(&mut r, &mesh, porosity) {
+        eprintln!(
+            "{} sloping plane, {label}: {lines} line pixels",
+            support::backend(&r)
+        );
+        assert!(lines > 500, "{label}: the line through 0.13 has {lines} px");
+    }
+}
+
 #[test]
 fn a_decimated_surface_draws_the_original_isolines_from_its_cells_corners() {
     let mut r = renderer();

@@ -179,15 +179,26 @@ fn iso_coordinate(scalar: f32) -> f32 {
     return (scalar - frame.iso.y) * frame.iso.x + 1.0;
 }
 
-// Isolines of the coordinate `s` (not drawn where `defined` is false) and grid lines
-// at the display-frame position `wp`, as a premultiplied colour and its coverage.
-// Major isolines (every frame.iso.z-th, counted from the offset) are drawn at full
-// opacity, the others at half: one texture serves both.
-fn extra_lines(wp: vec3<f32>, s: f32, defined: bool, a: f32) -> vec4<f32> {
+// The isoline coordinate of a scalar that may be undefined.
+const ISO_UNDEFINED: f32 = -3.0e38;
+
+// iso_coordinate, or ISO_UNDEFINED for an undefined scalar. Computed per vertex and
+// interpolated, as the papers' texture matrix does: the interpolation then rounds s,
+// a few line periods at most, not the scalar itself (a depth of 2000 m rounds about
+// 200 times coarser, on a 10 m spacing, than the coordinate of its line).
+fn line_coordinate(f: f32) -> f32 {
+    return select(ISO_UNDEFINED, iso_coordinate(f), f > UNDEFINED_SCALAR);
+}
+
+// Isolines of the line coordinate `s` (none where it is undefined) and grid lines at
+// the display-frame position `wp`, as a premultiplied colour and its coverage. Major
+// isolines (every frame.iso.z-th, counted from the offset) are drawn at full opacity,
+// the others at half: one texture serves both.
+fn extra_lines(wp: vec3<f32>, s: f32, a: f32) -> vec4<f32> {
     if !EXTRA_LINES {
         return vec4<f32>(0.0);
     }
-    return extra_lines_floored(wp, s, defined, a, 0.0);
+    return extra_lines_floored(wp, s, a, 0.0);
 }
 
 // Whether a pipeline draws isolines and grid lines at all. The texture techniques
@@ -197,9 +208,18 @@ fn extra_lines(wp: vec3<f32>, s: f32, defined: bool, a: f32) -> vec4<f32> {
 // lavapipe: the shaded-only frame 1.4 to 2 times slower with the texture form).
 override EXTRA_LINES: bool = true;
 
+// How far interpolation rounds a line coordinate, relative to its magnitude: the
+// perspective-correct interpolation of three equal corners gives their value back
+// only to about 16 units in the last place. Measured on llvmpipe and lavapipe at a
+// grazing angle (tests/isolines.rs), planes flat at a line's value still show line
+// pixels with 1e-6 here and none from 2e-6; this is twice that. Where the coordinate
+// changes less than this per pixel the field is flat: the next line would be tens of
+// thousands of pixels away, and none could be placed to a pixel.
+const ISO_NOISE: f32 = 4.0e-6;
+
 // extra_lines with the isolines' gradient floored at `min_grad` units per pixel (the
 // isoline technique's way of sampling as the paper does, see isoline.wgsl).
-fn extra_lines_floored(wp: vec3<f32>, s: f32, defined: bool, a: f32, min_grad: f32) -> vec4<f32> {
+fn extra_lines_floored(wp: vec3<f32>, s: f32, a: f32, min_grad: f32) -> vec4<f32> {
     // Derivatives only under the uniform switches: frames without these lines pay
     // nothing for them.
     var iso = 0.0;
@@ -213,7 +233,7 @@ fn extra_lines_floored(wp: vec3<f32>, s: f32, defined: bool, a: f32, min_grad: f
         // A flat patch of the field (a triangle with three equal corners) lying on a
         // line's value is not a line: it is left clear, and the line is drawn where
         // the field leaves that value, by the sloping neighbours.
-        if defined && grad > 0.0 {
+        if s > UNDEFINED_SCALAR && grad > ISO_NOISE * abs(s) {
             iso = coverage(s, ds, a) * frame.iso_color.a * select(0.5, 1.0, major);
         }
     }

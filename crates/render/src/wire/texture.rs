@@ -701,7 +701,7 @@ impl CoverPlan {
 /// cover, of their `values` (one per cell of each piece's box, see
 /// `CellCover::values`) and of their `corners` (four per cell, see
 /// `CellCover::corner_values`) when given, as `covered_cell`, `cell_scalar` and
-/// `cell_field` in texture.wgsl read them.
+/// `cell_iso` in texture.wgsl read them.
 fn cover_words(
     pieces: &[CoverPiece],
     first_piece: usize,

@@ -9,11 +9,13 @@
 //  - vs_texgs + fs_tex3: the same coordinates made per triangle from the corner
 //    index while pulling vertices from storage (`texgs`: wgpu has no geometry shader).
 
+// `iso`: the isoline coordinate of `scalar` (line_coordinate).
 struct UvOut {
     @builtin(position) position: vec4<f32>,
     @location(0) wp: vec3<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) scalar: f32,
+    @location(3) iso: f32,
 }
 
 struct Tex3Out {
@@ -21,6 +23,7 @@ struct Tex3Out {
     @location(0) wp: vec3<f32>,
     @location(1) s: vec3<f32>,
     @location(2) scalar: f32,
+    @location(3) iso: f32,
 }
 
 // Gradient length of one coordinate, in coordinate units per pixel.
@@ -31,24 +34,24 @@ fn grad_len(dx: f32, dy: f32) -> f32 {
 @vertex
 fn vs_uv(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32) -> UvOut {
     let wp = world(p);
-    return UvOut(clip(wp), wp, uv, scalar);
+    return UvOut(clip(wp), wp, uv, scalar, line_coordinate(scalar));
 }
 
 @fragment
 fn fs_shaded(in: UvOut) -> @location(0) vec4<f32> {
     let base = base_color(in.scalar);
-    let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, depth_fraction(in.wp));
+    let extra = extra_lines(in.wp, in.iso, depth_fraction(in.wp));
     return compose_lines(base, shade(base.rgb, dpdx(in.wp), dpdy(in.wp)), 0.0, extra);
 }
 
 @fragment
 fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
-    return uv_colour(in, in.scalar, in.scalar, true);
+    return uv_colour(in, in.scalar, in.iso, true);
 }
 
 // The surface coloured by `colour_scalar`, with `wire` under the two line families of
-// `in.uv`; isolines follow `iso_scalar`.
-fn uv_colour(in: UvOut, colour_scalar: f32, iso_scalar: f32, wire: bool) -> vec4<f32> {
+// `in.uv`; isolines follow the line coordinate `iso`.
+fn uv_colour(in: UvOut, colour_scalar: f32, iso: f32, wire: bool) -> vec4<f32> {
     let dpx = dpdx(in.wp);
     let dpy = dpdy(in.wp);
     let du = dpdx(in.uv);
@@ -59,7 +62,7 @@ fn uv_colour(in: UvOut, colour_scalar: f32, iso_scalar: f32, wire: bool) -> vec4
         cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
     }
     let base = base_color(colour_scalar);
-    let extra = extra_lines(in.wp, iso_coordinate(iso_scalar), iso_scalar > UNDEFINED_SCALAR, a);
+    let extra = extra_lines(in.wp, iso, a);
     return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
@@ -79,7 +82,8 @@ struct CoverOut {
     @location(0) wp: vec3<f32>,
     @location(1) uv: vec2<f32>,
     @location(2) scalar: f32,
-    @location(3) @interpolate(flat) piece: u32,
+    @location(3) iso: f32,
+    @location(4) @interpolate(flat) piece: u32,
 }
 
 fn cover_word(i: u32) -> u32 {
@@ -119,44 +123,49 @@ fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
     return bitcast<f32>(cover_word(first + u32(cell)));
 }
 
-// The field the isolines follow at global coordinates `uv` in `cell` of `piece`: the
-// original's, linear on each half of the cell face split along its (0, 0)-(1, 1)
+// The isoline coordinate at global coordinates `uv` in `cell` of `piece`: the
+// original's field, linear on each half of the cell face split along its (0, 0)-(1, 1)
 // diagonal as the original's triangles are, undefined outside its cells; the
-// interpolated scalar where the piece has no corner values.
-fn cell_field(piece: u32, cell: i32, uv: vec2<f32>, interpolated: f32) -> f32 {
+// interpolated coordinate where the piece has no corner values. The corners go
+// through iso_coordinate before the interpolation, as vertices do (line_coordinate).
+fn cell_iso(piece: u32, cell: i32, uv: vec2<f32>, interpolated: f32) -> f32 {
     let first = cover_word(piece_header(piece) + 6u);
     if first == NO_VALUES {
         return interpolated;
     }
     if cell < 0 {
-        return UNDEFINED_SCALAR;
+        return ISO_UNDEFINED;
     }
     let c = first + 4u * u32(cell);
-    let f00 = bitcast<f32>(cover_word(c));
-    let f10 = bitcast<f32>(cover_word(c + 1u));
-    let f11 = bitcast<f32>(cover_word(c + 2u));
-    let f01 = bitcast<f32>(cover_word(c + 3u));
-    if min(min(f00, f10), min(f11, f01)) <= UNDEFINED_SCALAR {
-        return UNDEFINED_SCALAR;
+    let f = vec4<f32>(
+        bitcast<f32>(cover_word(c)),
+        bitcast<f32>(cover_word(c + 1u)),
+        bitcast<f32>(cover_word(c + 2u)),
+        bitcast<f32>(cover_word(c + 3u)),
+    );
+    if any(f <= vec4<f32>(UNDEFINED_SCALAR)) {
+        return ISO_UNDEFINED;
     }
+    // s at the corners (0, 0), (1, 0), (1, 1), (0, 1).
+    let s = vec4<f32>(iso_coordinate(f.x), iso_coordinate(f.y), iso_coordinate(f.z), iso_coordinate(f.w));
     let t = clamp(fract((uv - vec2<f32>(1.0)) * 0.5), vec2<f32>(0.0), vec2<f32>(1.0));
     if t.x >= t.y {
-        return f00 + t.x * (f10 - f00) + t.y * (f11 - f10);
+        return s.x + t.x * (s.y - s.x) + t.y * (s.z - s.y);
     }
-    return f00 + t.y * (f01 - f00) + t.x * (f11 - f01);
+    return s.x + t.y * (s.w - s.x) + t.x * (s.z - s.w);
 }
 
 @vertex
 fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32, @location(3) piece: u32) -> CoverOut {
     let wp = world(p);
-    return CoverOut(clip(wp), wp, uv, scalar, piece);
+    return CoverOut(clip(wp), wp, uv, scalar, line_coordinate(scalar), piece);
 }
 
 // A fragment of a decimated surface in `cell` of the original's (-1: none): its
 // cell's colour, the original's isolines and, with `wire`, the global wireframe.
 fn cell_colour(in: CoverOut, cell: i32, wire: bool) -> vec4<f32> {
-    let surface = UvOut(in.position, in.wp, in.uv, in.scalar);
-    return uv_colour(surface, cell_scalar(in.piece, cell, in.scalar), cell_field(in.piece, cell, in.uv, in.scalar), wire);
+    let surface = UvOut(in.position, in.wp, in.uv, in.scalar, in.iso);
+    return uv_colour(surface, cell_scalar(in.piece, cell, in.scalar), cell_iso(in.piece, cell, in.uv, in.iso), wire);
 }
 
 // cell_colour drawn only over the cells of the original surface: a decimated surface
@@ -200,7 +209,7 @@ fn fs_uv_cells_bare(in: CoverOut) -> @location(0) vec4<f32> {
 @vertex
 fn vs_tex3(@location(0) p: vec3<f32>, @location(1) s: vec3<f32>, @location(2) scalar: f32) -> Tex3Out {
     let wp = world(p);
-    return Tex3Out(clip(wp), wp, s, scalar);
+    return Tex3Out(clip(wp), wp, s, scalar, line_coordinate(scalar));
 }
 
 @fragment
@@ -214,7 +223,7 @@ fn fs_tex3(in: Tex3Out) -> @location(0) vec4<f32> {
     let c1 = coverage(in.s.y, grad_len(dsx.y, dsy.y), a);
     let c2 = coverage(in.s.z, grad_len(dsx.z, dsy.z), a);
     let base = base_color(in.scalar);
-    let extra = extra_lines(in.wp, iso_coordinate(in.scalar), in.scalar > UNDEFINED_SCALAR, a);
+    let extra = extra_lines(in.wp, in.iso, a);
     return compose_lines(base, shade(base.rgb, dpx, dpy), union2(union2(c0, c1), c2), extra);
 }
 
@@ -242,5 +251,6 @@ fn vs_texgs(@builtin(vertex_index) vi: u32) -> Tex3Out {
         }
     }
     let wp = world(p);
-    return Tex3Out(clip(wp), wp, s, pulled_scalars[v]);
+    let scalar = pulled_scalars[v];
+    return Tex3Out(clip(wp), wp, s, scalar, line_coordinate(scalar));
 }
