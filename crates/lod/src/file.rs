@@ -13,8 +13,13 @@
 //! layer cells   with a property, per layer surface after its nodes: a bit per cell of
 //!               the (i, j) domain, row by row, set where the surface has the cell's
 //!               face, then each cell's value (f32), padded to 8 bytes
-//! LayerRecord   24 bytes per layer surface: grid layer, face, root node, node count,
-//!               offset of its cells
+//! layer sides   per grid layer with side faces (outer shell and fault walls), after
+//!               its top surface's cells, at full resolution: vertices (as node
+//!               data), then per face its two triangles (u32 indices), then per face
+//!               its cell's (i, j) (u32 pairs), then per face the property's value
+//!               (f32, NaN without one), padded to 8 bytes
+//! LayerRecord   40 bytes per layer surface: grid layer, face, root node, node count,
+//!               offsets of its cells and sides, side vertex and face counts
 //! NodeRecord    96 bytes per node (see the struct)
 //! ```
 //!
@@ -30,15 +35,16 @@ use std::time::Instant;
 use bytemuck::{Pod, Zeroable};
 use memmap2::Mmap;
 use rayon::prelude::*;
-use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surface};
+use strata_grid::{CellFace, CornerPointGrid, Face, SurfaceMesh, layer_surface, side_surfaces};
 
 use crate::cover::cell_corners;
 use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result, build_layer};
 
 const MAGIC: [u8; 8] = *b"STRATLOD";
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
-/// and their values, which colour a selection cell by cell.
-const VERSION: u32 = 3;
+/// and their values, which colour a selection cell by cell. 4: each grid layer's side
+/// faces.
+const VERSION: u32 = 4;
 /// Header flag: vertices carry a scalar (NaN otherwise).
 const HAS_SCALARS: u32 = 1;
 
@@ -77,6 +83,12 @@ pub struct LayerRecord {
     /// Byte offset of the layer's cells (see the module's layout); 0 without a
     /// property.
     pub cells_offset: u64,
+    /// Byte offset of grid layer `k`'s side faces, on its top surface's record; 0
+    /// where there are none.
+    pub sides_offset: u64,
+    pub side_vertices: u32,
+    /// Side faces, two triangles each.
+    pub side_faces: u32,
 }
 
 /// Sizes of the records as stored.
@@ -108,6 +120,12 @@ impl LayerCells {
 /// Bytes of a layer's cells in the file for `cells` cells of the (i, j) domain.
 fn layer_cells_bytes(cells: u64) -> u64 {
     4 * cells.div_ceil(32) + 4 * cells
+}
+
+/// Bytes of a layer's sides in the file: vertices, six indices, a cell and a value per
+/// face.
+fn layer_sides_bytes(vertices: u32, faces: u32) -> u64 {
+    24 * u64::from(vertices) + (24 + 8 + 4) * u64::from(faces)
 }
 
 /// One node of the file.
@@ -182,10 +200,23 @@ pub struct BuildReport {
     pub input_triangles: usize,
     /// Triangles stored over all levels.
     pub stored_triangles: usize,
+    /// Triangles of the side faces (stored at full resolution).
+    pub side_triangles: usize,
     /// Highest level (the roots').
     pub levels: u32,
     pub bytes: u64,
     pub seconds: f64,
+}
+
+/// A mesh's vertices as stored.
+fn stored_vertices(mesh: &SurfaceMesh) -> Vec<Vertex> {
+    (0..mesh.vertex_count())
+        .map(|v| Vertex {
+            position: mesh.positions[v],
+            texcoord: mesh.texcoords[v],
+            scalar: mesh.scalars.get(v).copied().unwrap_or(f32::NAN),
+        })
+        .collect()
 }
 
 struct Writer {
@@ -229,6 +260,7 @@ impl Writer {
         face: Face,
         tree: &LayerTree,
         cells: Option<&LayerCells>,
+        sides: Option<&SurfaceMesh>,
     ) -> Result<()> {
         if tree.nodes.is_empty() {
             return Ok(());
@@ -238,14 +270,7 @@ impl Writer {
         for node in &tree.nodes {
             let mesh = &node.mesh;
             let data_offset = self.pos;
-            let vertices: Vec<Vertex> = (0..mesh.vertex_count())
-                .map(|v| Vertex {
-                    position: mesh.positions[v],
-                    texcoord: mesh.texcoords[v],
-                    scalar: mesh.scalars.get(v).copied().unwrap_or(f32::NAN),
-                })
-                .collect();
-            self.write(bytemuck::cast_slice(&vertices))?;
+            self.write(bytemuck::cast_slice(&stored_vertices(mesh)))?;
             let index_width = if mesh.vertex_count() <= usize::from(u16::MAX) + 1 {
                 let i: Vec<u16> = mesh.triangles.iter().flatten().map(|&v| v as u16).collect();
                 self.write(bytemuck::cast_slice(&i))?;
@@ -283,6 +308,34 @@ impl Writer {
             }
             None => 0,
         };
+        let (sides_offset, side_vertices, side_faces) = match sides {
+            Some(sides) if !sides.cell_faces.is_empty() => {
+                let offset = self.pos;
+                self.write(bytemuck::cast_slice(&stored_vertices(sides)))?;
+                let indices: Vec<u32> = sides
+                    .cell_faces
+                    .iter()
+                    .flat_map(|f| f.triangles)
+                    .flat_map(|t| sides.triangles[t as usize])
+                    .collect();
+                self.write(bytemuck::cast_slice(&indices))?;
+                let cells: Vec<[u32; 2]> = sides
+                    .cell_faces
+                    .iter()
+                    .map(|f| [f.cell[0], f.cell[1]])
+                    .collect();
+                self.write(bytemuck::cast_slice(&cells))?;
+                let values: Vec<f32> = sides.cell_faces.iter().map(|f| f.value).collect();
+                self.write(bytemuck::cast_slice(&values))?;
+                self.pad()?;
+                (
+                    offset,
+                    sides.vertex_count() as u32,
+                    sides.cell_faces.len() as u32,
+                )
+            }
+            _ => (0, 0, 0),
+        };
         self.layers.push(LayerRecord {
             k,
             face: match face {
@@ -292,6 +345,9 @@ impl Writer {
             root: base,
             node_count: tree.nodes.len() as u32,
             cells_offset,
+            sides_offset,
+            side_vertices,
+            side_faces,
         });
         Ok(())
     }
@@ -339,6 +395,15 @@ impl Writer {
     }
 }
 
+/// One layer surface built for the file.
+struct BuiltSurface {
+    input_triangles: usize,
+    k: usize,
+    face: Face,
+    tree: LayerTree,
+    cells: Option<LayerCells>,
+}
+
 /// Builds the hierarchy of every layer surface of `grid` (the top faces of each layer
 /// and the bottom faces of the last, like `strata render`), with `property` as scalar,
 /// and writes it to `path`. Layers are built on all cores, in batches whose results
@@ -372,21 +437,36 @@ pub fn build_file(
     } else {
         indicatif::ProgressBar::hidden()
     };
+    // The side faces of all layers at once, so that a vertex between two layers
+    // averages the property over both, as `strata render --sides` draws it.
+    let sides = sides_by_layer(&side_surfaces(grid, 0..d.nz, property, origin)?, d.nz);
     let mut writer = Writer::create(path)?;
     let mut report = BuildReport::default();
     let batch = rayon::current_num_threads().max(1);
     for chunk in surfaces.chunks(batch) {
-        let trees: Vec<(usize, usize, Face, LayerTree, Option<LayerCells>)> = chunk
+        let built: Vec<BuiltSurface> = chunk
             .par_iter()
             .map(|&(k, face)| {
                 let mesh = layer_surface(grid, k, face, property, origin)?;
                 let tree = build_layer(&mesh, dims, options)?;
                 let cells = property.map(|_| LayerCells::of(&mesh, dims));
-                Ok((mesh.triangle_count(), k, face, tree, cells))
+                Ok(BuiltSurface {
+                    input_triangles: mesh.triangle_count(),
+                    k,
+                    face,
+                    tree,
+                    cells,
+                })
             })
             .collect::<Result<_>>()?;
-        for (input, k, face, tree, cells) in trees {
-            report.input_triangles += input;
+        for s in built {
+            let tree = &s.tree;
+            // A grid layer's side faces go with its top surface.
+            let sides = match s.face {
+                Face::Top => sides.get(s.k),
+                Face::Bottom => None,
+            };
+            report.input_triangles += s.input_triangles;
             report.stored_triangles += tree
                 .nodes
                 .iter()
@@ -395,7 +475,8 @@ pub fn build_file(
             report.levels = report.levels.max(tree.nodes.first().map_or(0, |n| n.level));
             report.nodes += tree.nodes.len();
             report.layers += usize::from(!tree.nodes.is_empty());
-            writer.layer(k as u32, face, &tree, cells.as_ref())?;
+            report.side_triangles += sides.map_or(0, SurfaceMesh::triangle_count);
+            writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides)?;
             bar.inc(1);
             bar.set_message(format!(
                 "{:.1} M triangles in, {:.1} M stored",
@@ -409,6 +490,44 @@ pub fn build_file(
     bar.finish_and_clear();
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// `sides`, the side faces of grid layers in layer order, cut into one mesh per grid
+/// layer of `nz`; each vertex keeps its scalar.
+fn sides_by_layer(sides: &SurfaceMesh, nz: usize) -> Vec<SurfaceMesh> {
+    let mut out: Vec<SurfaceMesh> = (0..nz)
+        .map(|_| SurfaceMesh::with_origin(sides.origin))
+        .collect();
+    // Per input vertex: the layer it was last taken into, and its index there.
+    let mut taken = vec![(u32::MAX, 0u32); sides.vertex_count()];
+    for face in &sides.cell_faces {
+        let k = face.cell[2];
+        let Some(mesh) = out.get_mut(k as usize) else {
+            continue;
+        };
+        let first = mesh.triangles.len() as u32;
+        for t in face.triangles {
+            let triangle = sides.triangles[t as usize].map(|v| {
+                let (layer, index) = &mut taken[v as usize];
+                if *layer != k {
+                    *layer = k;
+                    *index = mesh.positions.len() as u32;
+                    mesh.positions.push(sides.positions[v as usize]);
+                    mesh.texcoords.push(sides.texcoords[v as usize]);
+                    if let Some(&s) = sides.scalars.get(v as usize) {
+                        mesh.scalars.push(s);
+                    }
+                }
+                *index
+            });
+            mesh.triangles.push(triangle);
+        }
+        mesh.cell_faces.push(CellFace {
+            triangles: [first, first + 1],
+            ..*face
+        });
+    }
+    out
 }
 
 /// Smallest and largest finite value of property `name` over the active cells (NaN
@@ -541,6 +660,19 @@ impl LodFile {
             if !cells_fit {
                 return Err(bad(at, &format!("layer {l}: cells outside the file")));
             }
+            let sides_fit = if layer.side_faces == 0 {
+                layer.sides_offset == 0 && layer.side_vertices == 0
+            } else {
+                layer.sides_offset >= HEADER_BYTES as u64
+                    && layer.sides_offset.is_multiple_of(8)
+                    && layer
+                        .sides_offset
+                        .checked_add(layer_sides_bytes(layer.side_vertices, layer.side_faces))
+                        .is_some_and(|end| end <= len)
+            };
+            if !sides_fit {
+                return Err(bad(at, &format!("layer {l}: sides outside the file")));
+            }
         }
         Ok(out)
     }
@@ -598,6 +730,51 @@ impl LodFile {
             bytemuck::cast_slice(&self.map[o..values]),
             bytemuck::cast_slice(&self.map[values..values + 4 * cells]),
         ))
+    }
+
+    /// The side faces of layer surface `l`'s grid layer (outer shell and fault walls,
+    /// as `strata_grid::side_surfaces` makes them) at full resolution, with their cells
+    /// and values; `None` where it has none (bottom surfaces, layers without side
+    /// faces). Fails when an index is out of range.
+    pub fn layer_sides(&self, l: usize) -> Result<Option<SurfaceMesh>> {
+        let layer = &self.layers()[l];
+        if layer.side_faces == 0 {
+            return Ok(None);
+        }
+        let faces = layer.side_faces as usize;
+        let o = layer.sides_offset as usize;
+        let indices_at = o + 24 * layer.side_vertices as usize;
+        let cells_at = indices_at + 24 * faces;
+        let values_at = cells_at + 8 * faces;
+        let vertices: &[Vertex] = bytemuck::cast_slice(&self.map[o..indices_at]);
+        let indices: &[u32] = bytemuck::cast_slice(&self.map[indices_at..cells_at]);
+        let cells: &[[u32; 2]] = bytemuck::cast_slice(&self.map[cells_at..values_at]);
+        let values: &[f32] = bytemuck::cast_slice(&self.map[values_at..values_at + 4 * faces]);
+        if let Some(&v) = indices.iter().find(|&&v| v as usize >= vertices.len()) {
+            return Err(Error::Format {
+                path: self.path.clone(),
+                at: layer.sides_offset,
+                message: format!("layer {l}: side index {v} of {} vertices", vertices.len()),
+            });
+        }
+        let mut mesh = SurfaceMesh::with_origin(self.origin());
+        mesh.positions = vertices.iter().map(|v| v.position).collect();
+        mesh.texcoords = vertices.iter().map(|v| v.texcoord).collect();
+        if self.has_scalars() {
+            mesh.scalars = vertices.iter().map(|v| v.scalar).collect();
+        }
+        mesh.triangles = indices
+            .chunks_exact(3)
+            .map(|t| [t[0], t[1], t[2]])
+            .collect();
+        mesh.cell_faces = (0..faces)
+            .map(|f| CellFace {
+                triangles: [2 * f as u32, 2 * f as u32 + 1],
+                cell: [cells[f][0], cells[f][1], layer.k],
+                value: values[f],
+            })
+            .collect();
+        Ok(Some(mesh))
     }
 
     /// The stored vertices of node `i` (in place in the mapped file).

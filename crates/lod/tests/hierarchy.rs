@@ -5,7 +5,7 @@ mod common;
 
 use common::{faulted_grid, layer, shared_data};
 use std::collections::HashMap;
-use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
+use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
 
 use strata_lod::{
     BuildOptions, LayerRecord, LayerTree, LodFile, NONE, Node, ViewPoint, build_file, build_layer,
@@ -455,6 +455,81 @@ fn reek_hierarchy_is_crack_free() {
     assert!(assert_crack_free(&tree, &mesh) > 50);
 }
 
+/// Per face of `mesh` (two triangles each): its cell, value, and its triangles'
+/// corners (position, texture coordinates and scalar, bit for bit).
+fn side_faces(mesh: &SurfaceMesh) -> Vec<([u32; 3], u32, Vec<[u32; 6]>)> {
+    mesh.cell_faces
+        .iter()
+        .map(|f| {
+            let corners = f
+                .triangles
+                .iter()
+                .flat_map(|&t| mesh.triangles[t as usize])
+                .map(|v| {
+                    let v = v as usize;
+                    let [x, y, z] = mesh.positions[v];
+                    let [u, w] = mesh.texcoords[v];
+                    let s = mesh.scalars.get(v).copied().unwrap_or(f32::NAN);
+                    [x, y, z, u, w, s].map(f32::to_bits)
+                })
+                .collect();
+            (f.cell, f.value.to_bits(), corners)
+        })
+        .collect()
+}
+
+#[test]
+fn each_grid_layers_side_faces_are_stored_at_full_resolution() {
+    let grid = faulted_grid(40, 30);
+    let dir = tempfile::tempdir().unwrap();
+    let nz = grid.dims().nz;
+    for property in [Some("PORO"), None] {
+        let path = dir.path().join("model.lod");
+        let report = build_file(&grid, property, &path, &options(8)).unwrap();
+        let file = LodFile::open(&path).unwrap();
+        // The model's side faces as `strata render --sides` draws them: vertices
+        // between layers average the property over both.
+        let want = side_surfaces(&grid, 0..nz, property, grid.display_origin()).unwrap();
+        let want = side_faces(&want);
+        let mut got = Vec::new();
+        for (l, layer) in file.layers().iter().enumerate() {
+            let sides = file.layer_sides(l).unwrap();
+            if layer.face == 1 {
+                assert!(sides.is_none(), "a bottom surface has sides");
+                continue;
+            }
+            let sides = sides.expect("every layer of the faulted grid has sides");
+            sides.validate().unwrap();
+            assert!(sides.cell_faces.iter().all(|f| f.cell[2] == layer.k));
+            assert_eq!(sides.origin, file.origin());
+            got.extend(side_faces(&sides));
+        }
+        assert_eq!(got.len(), want.len(), "{property:?}");
+        assert!(got == want, "{property:?}: stored side faces differ");
+        assert_eq!(2 * got.len(), report.side_triangles);
+        // Faces inside the domain are fault walls (or the edges of holes).
+        let walls = got
+            .iter()
+            .filter(|(cell, ..)| (1..39).contains(&cell[0]) && (1..29).contains(&cell[1]))
+            .count();
+        assert!(walls > 20, "{walls} side faces inside the domain");
+        // Scalars vary up and down a wall only where layers share vertices (corners
+        // (0, 0), (1, 0), (1, 1) then (0, 0), (1, 1), (0, 1): a face's top and bottom
+        // corners are 0 and 5, 1 and 2).
+        if property.is_some() {
+            let vertical = got
+                .iter()
+                .filter(|(_, _, c)| c[0][5] != c[5][5] || c[1][5] != c[2][5])
+                .count();
+            assert!(
+                vertical > got.len() / 2,
+                "{vertical} of {} faces",
+                got.len()
+            );
+        }
+    }
+}
+
 /// Damage anywhere (a few random bytes of a saved file overwritten, a thousand times
 /// over) is an error or data that reads back wrong, never a panic: the tables are
 /// checked when the file opens and indices when a node's mesh is read.
@@ -490,6 +565,9 @@ fn random_damage_never_panics() {
                 let _ = file.selection_mesh(&selection);
                 let _ = file.selection_cells(&selection);
                 let _ = file.selection_corners(&selection);
+            }
+            for l in 0..file.layers().len() {
+                let _ = file.layer_sides(l);
             }
             for i in 0..file.nodes().len() {
                 let _ = file.mesh(i);
