@@ -74,3 +74,23 @@ pub fn colour_range(values: impl IntoIterator<Item = f32>) -> Option<(f32, f32)>
         });
     (lo <= hi).then_some((lo, if hi > lo { hi } else { lo + 1.0 }))
 }
+
+/// The isoline field of `smooth` (a property averaged onto its nodes) per triangle
+/// corner of the same surfaces as drawn: `cell_painted` ones
+/// (`SurfaceMesh::with_cell_values`) list their triangles face by face, the others in
+/// `smooth`'s order.
+pub fn corner_field(smooth: &SurfaceMesh, cell_painted: bool) -> Vec<f32> {
+    let corners = |t: u32| smooth.triangles[t as usize].map(|v| smooth.scalars[v as usize]);
+    if cell_painted {
+        smooth
+            .cell_faces
+            .iter()
+            .flat_map(|f| f.triangles)
+            .flat_map(corners)
+            .collect()
+    } else {
+        (0..smooth.triangle_count() as u32)
+            .flat_map(corners)
+            .collect()
+    }
+}

@@ -531,3 +531,70 @@ fn the_hierarchy_view_takes_the_render_style_and_a_layer_range() {
         "{darker} pixels darkened by grid lines"
     );
 }
+
+#[test]
+fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let lod = dir.path().join("sample.lod");
+    let lod_s = lod.to_str().expect("a UTF-8 path");
+    build_sample(lod_s, &[]);
+    let png = |name: &str| dir.path().join(format!("{name}.png"));
+    let picture = |name: &str| image::open(png(name)).expect("a PNG").to_rgba8();
+    // Pixels where two frames differ by more than a trace, and the model's pixels.
+    let differ = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        a.pixels()
+            .zip(b.pixels())
+            .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 8))
+            .count()
+    };
+    let mut side_triangles = None;
+    for iso in [&[][..], &["--iso"][..]] {
+        let mut options = vec!["--sides"];
+        options.extend_from_slice(iso);
+        let (printed, viewed) = view_lod(lod_s, &png("view"), "400x300", &options);
+        // The sample's 6 layers fit one tile: the view draws the full resolution.
+        assert!(printed.contains("(100.0 %)"), "{printed}");
+        let rendered_options: Vec<&str> = match iso {
+            [] => vec!["--sides"],
+            _ => vec!["--sides", "--iso", "PORO"],
+        };
+        let rendered = render_sample(&png("render"), "400x300", &rendered_options);
+        // "render.png: N triangles" against the view's "K nodes, L of L
+        // full-resolution triangles" and "wireframe, S side triangles".
+        let count = |printed: &str, after: &str| {
+            word_after(printed, after).and_then(|w| w.parse::<usize>().ok())
+        };
+        let triangles = count(&rendered, "render.png: ");
+        let layers = count(&printed, " nodes, ");
+        side_triangles = count(&printed, "wireframe, ");
+        eprintln!("{printed}\n{rendered}");
+        assert!(triangles.is_some() && side_triangles.is_some_and(|s| s > 0));
+        assert_eq!(
+            layers.zip(side_triangles).map(|(l, s)| l + s),
+            triangles,
+            "the view's layer and side triangles against render's"
+        );
+        let (model, ..) = measure(&picture("render"));
+        let (_, plain) = view_lod(lod_s, &png("plain"), "400x300", iso);
+        let (with, without) = (
+            differ(&viewed, &picture("render")),
+            differ(&plain, &picture("render")),
+        );
+        eprintln!(
+            "{iso:?}: {model} model pixels; against render --sides, {with} differ with --sides, \
+             {without} without"
+        );
+        assert!(without > model / 10, "the sides show without --sides");
+        assert!(
+            with <= model / 200,
+            "{with} pixels differ from render --sides"
+        );
+    }
+    // Without a property the sides take the solid colour.
+    let plain = dir.path().join("plain.lod");
+    let plain_s = plain.to_str().expect("a UTF-8 path");
+    build_sample(plain_s, &["--no-property"]);
+    let (printed, _) = view_lod(plain_s, &png("solid"), "200x150", &["--sides"]);
+    let solid = word_after(&printed, "wireframe, ").and_then(|w| w.parse::<usize>().ok());
+    assert_eq!(solid, side_triangles, "{printed}");
+}

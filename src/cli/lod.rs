@@ -11,8 +11,11 @@ use strata::lod::{
     BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
 };
 use strata::render::glam::Vec3;
-use strata::render::{Camera, CellDraw, Renderer, Style, View, WireMode};
-use strata::scene::colour_range;
+use strata::render::wire::Drawable;
+use strata::render::{
+    Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
+};
+use strata::scene::{colour_range, corner_field};
 
 use super::style::{
     FrameArgs, IsoSpacing, StyleArgs, layer_range, parse_iso_spacing, parse_layers,
@@ -74,6 +77,10 @@ pub struct ViewArgs {
     /// model's bottom with the last layer).
     #[arg(long, value_parser = parse_layers)]
     layers: Option<(usize, usize)>,
+    /// Also the drawn layers' side faces: the outer shell and fault walls, stored at
+    /// full resolution and painted cell by cell as `strata render --sides` paints them.
+    #[arg(long)]
+    sides: bool,
     #[command(flatten)]
     style: StyleArgs,
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
@@ -136,14 +143,15 @@ fn build(args: &BuildArgs) -> Result<()> {
     let report = build_file(&grid, property.as_deref(), &args.output, &options)?;
     drop(grid);
     eprintln!(
-        "{}: {} layer surfaces, {} nodes in {} levels, {} triangles in, {} stored, {:.2} GB; \
-         built in {:.1} s, {:.1} s in all; peak memory {}",
+        "{}: {} layer surfaces, {} nodes in {} levels, {} triangles in, {} stored, {} side \
+         triangles, {:.2} GB; built in {:.1} s, {:.1} s in all; peak memory {}",
         args.output.display(),
         report.layers,
         report.nodes,
         report.levels + 1,
         report.input_triangles,
         report.stored_triangles,
+        report.side_triangles,
         report.bytes as f64 / 1e9,
         report.seconds,
         start.elapsed().as_secs_f64(),
@@ -303,12 +311,31 @@ fn view(args: &ViewArgs) -> Result<()> {
             [mesh.origin[0], mesh.origin[1]],
         )?
     };
-    let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
+    let sides = if args.sides {
+        drawn_sides(&file, &drawn)?
+    } else {
+        None
+    };
+    let side_drawable = match &sides {
+        Some(sides) => Some(
+            prepare_sides(&mut renderer, sides, wire, isolines.is_some())
+                .context("preparing the side faces")?,
+        ),
+        None => None,
+    };
+    let drawables: Vec<&dyn Drawable> = std::iter::once(drawable.as_ref())
+        .chain(side_drawable.as_deref())
+        .collect();
+    let image = renderer.render(&drawables, &view, &style)?;
     strata::render::save_png(&image, output)?;
     eprintln!(
-        "{}: drawn with the {} wireframe, {}{}",
+        "{}: drawn with the {} wireframe{}, {}{}",
         output.display(),
         wire.name(),
+        match &sides {
+            Some(sides) => format!(", {} side triangles", sides.triangle_count()),
+            None => String::new(),
+        },
         match scalar_range {
             None => "no scalar".to_string(),
             Some((a, b)) => format!(
@@ -326,6 +353,46 @@ fn view(args: &ViewArgs) -> Result<()> {
         }
     );
     Ok(())
+}
+
+/// The side faces of the grid layers whose surfaces are marked `drawn`, in one mesh;
+/// `None` where they have none.
+fn drawn_sides(file: &LodFile, drawn: &[bool]) -> Result<Option<SurfaceMesh>> {
+    let mut all = SurfaceMesh::with_origin(file.origin());
+    for (l, _) in drawn.iter().enumerate().filter(|(_, d)| **d) {
+        if let Some(sides) = file.layer_sides(l)? {
+            all.append(&sides);
+        }
+    }
+    Ok((!all.is_empty()).then_some(all))
+}
+
+/// The side faces drawn as `strata render --sides` draws them: painted cell by cell
+/// where they carry a property, with isolines of it (`iso`) that follow the property
+/// averaged onto their nodes.
+fn prepare_sides(
+    renderer: &mut Renderer,
+    sides: &SurfaceMesh,
+    wire: WireMode,
+    iso: bool,
+) -> Result<Box<dyn Drawable>> {
+    let painted = !sides.scalars.is_empty();
+    let by_cell;
+    let mesh = if painted {
+        by_cell = sides.with_cell_values();
+        &by_cell
+    } else {
+        sides
+    };
+    if iso {
+        let field = corner_field(sides, painted);
+        let options = IsolineOptions {
+            adjust: RangeAdjust::On,
+            wire: wire == WireMode::Global,
+        };
+        return Ok(renderer.prepare_isolines(mesh, Some(&field), options)?);
+    }
+    Ok(renderer.prepare(mesh, wire)?)
 }
 
 /// The property's values on the cells of the layer surfaces marked `drawn` (none

@@ -241,27 +241,14 @@ fn field_mesh(
 }
 
 /// The isoline field of `smooth` (see [`field_mesh`]) per triangle corner of `mesh`,
-/// the same surfaces built with `options`. Cell-painted meshes list their triangles
-/// face by face (`SurfaceMesh::with_cell_values`), smooth ones in extraction order.
+/// the same surfaces built with `options`.
 fn corner_field(
     options: &SceneOptions,
     smooth: &strata::grid::SurfaceMesh,
     mesh: &strata::grid::SurfaceMesh,
 ) -> Result<Vec<f32>> {
-    let corners = |t: u32| smooth.triangles[t as usize].map(|v| smooth.scalars[v as usize]);
     let cell_painted = options.flat_cells && options.property.is_some();
-    let field: Vec<f32> = if cell_painted {
-        smooth
-            .cell_faces
-            .iter()
-            .flat_map(|f| f.triangles)
-            .flat_map(corners)
-            .collect()
-    } else {
-        (0..smooth.triangle_count() as u32)
-            .flat_map(corners)
-            .collect()
-    };
+    let field = strata::scene::corner_field(smooth, cell_painted);
     if field.len() != 3 * mesh.triangle_count() {
         bail!(
             "--iso: {} isoline values for {} triangles",
