@@ -598,3 +598,62 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
     let solid = word_after(&printed, "wireframe, ").and_then(|w| w.parse::<usize>().ok());
     assert_eq!(solid, side_triangles, "{printed}");
 }
+
+#[test]
+fn the_hierarchy_view_frames_the_model_as_render_does() {
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/reek");
+    if !data.is_dir() {
+        eprintln!("skipped: no shared data at {}", data.display());
+        return;
+    }
+    let (grid, poro) = (data.join("REEK.EGRID"), data.join("reek_sim_poro.grdecl"));
+    let (grid, poro) = (
+        grid.to_str().expect("a UTF-8 path"),
+        poro.to_str().expect("a UTF-8 path"),
+    );
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let lod = dir.path().join("reek.lod");
+    let lod_s = lod.to_str().expect("a UTF-8 path");
+    // Tiles of 8 cells: Reek's roots are coarse enough to lose the crests that frame
+    // it (framed on them, the view sat 2 to 3 px lower than render's at 1200 x 900).
+    let built = strata(&[
+        "lod", "build", grid, "--props", poro, "--tile", "8", "-o", lod_s,
+    ]);
+    assert!(built.status.success(), "lod build: {}", stderr(&built));
+    let png = |name: &str| dir.path().join(format!("{name}.png"));
+    let rendered = draw(
+        &["render", grid],
+        &png("render"),
+        "1200x900",
+        &["--props", poro],
+    );
+    let rendered = (
+        rendered,
+        image::open(png("render")).expect("a PNG").to_rgba8(),
+    );
+    // At 1 px the whole model is drawn at full resolution, exactly where render draws
+    // it; at 10 px the coarser nodes' own outline may stand off by a pixel or two.
+    for (pixels, at_most) in [("1", 0), ("10", 2)] {
+        let (printed, viewed) = view_lod(lod_s, &png(pixels), "1200x900", &["--pixels", pixels]);
+        // The model's bounding box on screen, in pixels.
+        let bbox = |p: &image::RgbaImage| {
+            let on: Vec<(u32, u32)> = p
+                .enumerate_pixels()
+                .filter(|(_, _, q)| q[0].min(q[1]).min(q[2]) <= 245)
+                .map(|(x, y, _)| (x, y))
+                .collect();
+            let xs = on.iter().map(|c| c.0);
+            let ys = on.iter().map(|c| c.1);
+            [xs.clone().min(), xs.max(), ys.clone().min(), ys.max()]
+                .map(|v| v.map_or(-1, i64::from))
+        };
+        let (got, want) = (bbox(&viewed), bbox(&rendered.1));
+        eprintln!("{printed}\n--pixels {pixels}: box {got:?}, render's {want:?}");
+        let off = got.iter().zip(&want).map(|(a, b)| (a - b).abs()).max();
+        assert!(
+            off <= Some(at_most),
+            "--pixels {pixels}: box {got:?}, render's {want:?}"
+        );
+    }
+    assert!(rendered.0.contains("76796 triangles"), "{}", rendered.0);
+}

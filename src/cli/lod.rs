@@ -194,28 +194,31 @@ fn view(args: &ViewArgs) -> Result<()> {
     }
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let frame = &args.frame;
-    let (az, el, dist) = frame.view;
-    // The roots' vertices, not their boxes, frame the model: a grid rotated in map
-    // coordinates fills a fraction of its box.
-    let root_vertices = || roots.iter().flat_map(|&r| file.vertices(r as usize));
-    let camera = Camera::fit_points(
-        root_vertices().map(|v| Vec3::from(v.position)),
-        frame.zscale,
-        frame.size.0 as f32 / frame.size.1 as f32,
-        (az, el),
-        dist,
-    );
-    let point = ViewPoint {
-        eye: camera.eye.to_array(),
-        z_scale: frame.zscale,
-        fov_y_deg: camera.fov_y_deg,
-        height_px: frame.size.1,
+    let sides = if args.sides {
+        drawn_sides(&file, &drawn)?
+    } else {
+        None
     };
-    let chosen: Vec<u32> = file
-        .select(&point, args.pixels)
-        .into_iter()
-        .filter(|&i| drawn[file.nodes()[i as usize].layer as usize])
-        .collect();
+    let choose = |camera: &Camera, pixels: f32| -> Vec<u32> {
+        let point = ViewPoint {
+            eye: camera.eye.to_array(),
+            z_scale: frame.zscale,
+            fov_y_deg: camera.fov_y_deg,
+            height_px: frame.size.1,
+        };
+        file.select(&point, pixels)
+            .into_iter()
+            .filter(|&i| drawn[file.nodes()[i as usize].layer as usize])
+            .collect()
+    };
+    // Framed on the roots' vertices, not their boxes (a grid rotated in map
+    // coordinates fills a fraction of its box); then, as the roots are coarse, on the
+    // vertices of the nodes within FRAMING_PIXELS of the full resolution that `render`
+    // frames, so that the frame does not move with --pixels.
+    let camera = fit_camera(frame_points(&file, &roots, sides.as_ref()), frame);
+    let framing = choose(&camera, FRAMING_PIXELS);
+    let camera = fit_camera(frame_points(&file, &framing, sides.as_ref()), frame);
+    let chosen = choose(&camera, args.pixels);
     let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
     for &i in &chosen {
         let n = &file.nodes()[i as usize];
@@ -311,11 +314,6 @@ fn view(args: &ViewArgs) -> Result<()> {
             [mesh.origin[0], mesh.origin[1]],
         )?
     };
-    let sides = if args.sides {
-        drawn_sides(&file, &drawn)?
-    } else {
-        None
-    };
     let side_drawable = match &sides {
         Some(sides) => Some(
             prepare_sides(&mut renderer, sides, wire, isolines.is_some())
@@ -353,6 +351,35 @@ fn view(args: &ViewArgs) -> Result<()> {
         }
     );
     Ok(())
+}
+
+/// The pixel budget of the nodes that frame a view (see `view`).
+const FRAMING_PIXELS: f32 = 0.5;
+
+/// The vertices of `nodes` and of `sides`.
+fn frame_points<'a>(
+    file: &'a LodFile,
+    nodes: &'a [u32],
+    sides: Option<&'a SurfaceMesh>,
+) -> impl Iterator<Item = Vec3> + Clone + 'a {
+    nodes
+        .iter()
+        .flat_map(|&i| file.vertices(i as usize))
+        .map(|v| v.position)
+        .chain(sides.into_iter().flat_map(|s| s.positions.iter().copied()))
+        .map(Vec3::from)
+}
+
+/// A camera framing `points` as `strata render` frames a model.
+fn fit_camera(points: impl Iterator<Item = Vec3> + Clone, frame: &FrameArgs) -> Camera {
+    let (az, el, dist) = frame.view;
+    Camera::fit_points(
+        points,
+        frame.zscale,
+        frame.size.0 as f32 / frame.size.1 as f32,
+        (az, el),
+        dist,
+    )
 }
 
 /// The side faces of the grid layers whose surfaces are marked `drawn`, in one mesh;
