@@ -184,8 +184,8 @@ const ISO_UNDEFINED: f32 = -3.0e38;
 
 // iso_coordinate, or ISO_UNDEFINED for an undefined scalar. Computed per vertex and
 // interpolated, as the papers' texture matrix does: the interpolation then rounds s,
-// a few line periods at most, not the scalar itself (a depth of 2000 m rounds about
-// 200 times coarser, on a 10 m spacing, than the coordinate of its line).
+// a few line periods, not the scalar itself (a depth of 2000 m on a 10 m spacing is
+// 200 periods from zero, and rounds about that much coarser).
 fn line_coordinate(f: f32) -> f32 {
     return select(ISO_UNDEFINED, iso_coordinate(f), f > UNDEFINED_SCALAR);
 }
