@@ -590,6 +590,23 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
             "{with} pixels differ from render --sides"
         );
     }
+    // A layer range: those layers' sides only, as `render --layers` draws them.
+    let range = ["--sides", "--layers", "3..5"];
+    let (printed, viewed) = view_lod(lod_s, &png("range"), "400x300", &range);
+    render_sample(&png("render_range"), "400x300", &range);
+    let rendered = picture("render_range");
+    let (model, ..) = measure(&rendered);
+    let sides = word_after(&printed, "wireframe, ").and_then(|w| w.parse::<usize>().ok());
+    assert!(
+        sides.is_some_and(|s| s > 0) && sides < side_triangles,
+        "{printed}"
+    );
+    let off = differ(&viewed, &rendered);
+    eprintln!("--layers 3..5: {model} model pixels, {off} differ from render's");
+    assert!(
+        off <= model / 200,
+        "{off} pixels differ from render --layers 3..5 --sides"
+    );
     // Without a property the sides take the solid colour.
     let plain = dir.path().join("plain.lod");
     let plain_s = plain.to_str().expect("a UTF-8 path");
