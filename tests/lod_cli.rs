@@ -298,6 +298,17 @@ fn render_lod_says_which_wireframes_colour_by_cell() {
         let printed = render(by_cells);
         assert!(!printed.contains("interpolated between"), "{printed}");
     }
+    // A decimated surface has no cell faces for the quad wireframe.
+    let sample = sample();
+    let sample = sample.to_str().expect("a UTF-8 path");
+    let png = png.to_str().expect("a UTF-8 path");
+    let quad = strata(&["render", sample, "--lod", "20", "--wire", "quad", "-o", png]);
+    assert!(
+        !quad.status.success()
+            && stderr(&quad).contains("--wire global draws the model's cell lines"),
+        "{}",
+        stderr(&quad)
+    );
 }
 
 /// Pixels that isolines darken: a frame drawn with them against one without.
@@ -431,6 +442,7 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     };
     refused(&["--iso", "--wire", "tex"], "--wire global");
     refused(&["--iso", "0"], "not a positive spacing");
+    refused(&["--wire", "quad"], "no cell faces for --wire quad");
     let plain = dir.path().join("plain.lod");
     let plain_s = plain.to_str().expect("a UTF-8 path");
     build_sample(plain_s, &["--no-property"]);

@@ -18,7 +18,7 @@ use strata::render::{
 use strata::scene::{colour_range, corner_field};
 
 use super::style::{
-    FrameArgs, IsoSpacing, StyleArgs, layer_range, parse_iso_spacing, parse_layers,
+    FrameArgs, IsoSpacing, StyleArgs, decimated_wire, layer_range, parse_iso_spacing, parse_layers,
 };
 
 #[derive(Subcommand)]
@@ -165,6 +165,7 @@ fn build(args: &BuildArgs) -> Result<()> {
 
 fn view(args: &ViewArgs) -> Result<()> {
     let start = Instant::now();
+    let wire = decimated_wire(args.style.wire, "lod view")?;
     let file = LodFile::open(&args.file)?;
     let nz = file.layers().iter().map(|l| l.k as usize + 1).max();
     let Some(nz) = nz else {
@@ -259,7 +260,6 @@ fn view(args: &ViewArgs) -> Result<()> {
             .and_then(|(lo, hi)| colour_range([lo, hi])),
         Some(_) => colour_range(drawn_values(&file, &drawn)),
     };
-    let wire = args.style.wire;
     // The global coordinates find the model's cells, their colours and isolines, with
     // or without the model's grid lines over them.
     let by_cells = matches!(wire, WireMode::Global | WireMode::None);

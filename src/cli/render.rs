@@ -12,7 +12,9 @@ use strata::render::{
 };
 use strata::scene::{SceneOptions, build};
 
-use super::style::{FrameArgs, IsoSpacing, StyleArgs, layer_range, parse_iso, parse_layers};
+use super::style::{
+    FrameArgs, IsoSpacing, StyleArgs, decimated_wire, layer_range, parse_iso, parse_layers,
+};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -57,7 +59,7 @@ pub struct RenderArgs {
     iso_adjust: RangeAdjust,
     /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
-    /// the decimated triangles. With global or none, each cell keeps its own colour
+    /// the decimated triangles (quad, which needs cell faces, is refused). With global or none, each cell keeps its own colour
     /// (looked up by the global coordinates); with the others, colours are interpolated
     /// between nodes (decimated triangles are no longer cells). Says when PERCENT is below the
     /// triangles that keep every corner of the outlines, holes and fault traces; there
@@ -85,9 +87,12 @@ fn parse_adjust(s: &str) -> Result<RangeAdjust, String> {
 
 pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
+    let wire = match args.lod {
+        Some(_) => decimated_wire(args.style.wire, "--lod")?,
+        None => args.style.wire,
+    };
     let (_, grid) = super::open_model(args.model.as_deref(), &args.props)?;
     let layers = layer_range(args.layer, args.layers, grid.dims().nz)?;
-    let wire = args.style.wire;
     let property = if args.no_property {
         None
     } else {

@@ -222,6 +222,19 @@ fn nice_spacing(range: f32, lines: f32) -> f32 {
         .unwrap_or(10f64.powi(power + 1)) as f32
 }
 
+/// `wire` for surfaces drawn decimated (`render --lod`, `lod view`, `what`): any but
+/// quad, whose per-face coordinates need the model's cell faces.
+pub fn decimated_wire(wire: WireMode, what: &str) -> Result<WireMode> {
+    if wire == WireMode::Quad {
+        return Err(anyhow!(
+            "{what} draws decimated surfaces, which have no cell faces for --wire quad's \
+             per-face coordinates: --wire global draws the model's cell lines on them, \
+             --wire tex their own triangles"
+        ));
+    }
+    Ok(wire)
+}
+
 fn parse_wire(s: &str) -> Result<WireMode, String> {
     WireMode::from_name(s).ok_or_else(|| {
         format!(
