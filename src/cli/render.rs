@@ -59,10 +59,11 @@ pub struct RenderArgs {
     iso_adjust: RangeAdjust,
     /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
-    /// the decimated triangles (quad, which needs cell faces, is refused). With global or none, each cell keeps its own colour
-    /// (looked up by the global coordinates); with the others, colours are interpolated
-    /// between nodes (decimated triangles are no longer cells). Says when PERCENT is below the
-    /// triangles that keep every corner of the outlines, holes and fault traces; there
+    /// the decimated triangles (quad, which needs cell faces, is refused). With global
+    /// or none, each cell keeps its own colour (looked up by the global coordinates);
+    /// with the others, colours are interpolated between nodes (decimated triangles are
+    /// no longer cells). Says when PERCENT is below the triangles that keep every corner
+    /// of the outlines, holes and fault traces; there
     /// meshoptimizer's simplify decimates instead, its result fitted to the original
     /// grid lines (as strata's is just above that). With --iso the isolines are the
     /// original's: each fragment evaluates the original surface's field from its global

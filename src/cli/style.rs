@@ -222,8 +222,8 @@ fn nice_spacing(range: f32, lines: f32) -> f32 {
         .unwrap_or(10f64.powi(power + 1)) as f32
 }
 
-/// `wire` for surfaces drawn decimated (`render --lod`, `lod view`, `what`): any but
-/// quad, whose per-face coordinates need the model's cell faces.
+/// `wire` for the decimated surfaces that `what` draws (`render --lod`, `lod view`):
+/// any but quad, whose per-face coordinates need the model's cell faces.
 pub fn decimated_wire(wire: WireMode, what: &str) -> Result<WireMode> {
     if wire == WireMode::Quad {
         return Err(anyhow!(
