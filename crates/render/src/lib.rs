@@ -11,6 +11,7 @@ mod isoline;
 mod renderer;
 mod style;
 mod timing;
+mod visibility;
 pub mod wire;
 
 pub use camera::Camera;

@@ -353,6 +353,30 @@ impl Renderer {
         Ok(values)
     }
 
+    /// Per piece below `piece_count`, whether `view` shows `mesh` from it at some pixel
+    /// centre, the mesh hiding itself (two-sided, the nearest surface wins); `pieces`
+    /// gives each vertex's piece. What is drawn with the mesh can only hide more.
+    /// `style` is the frame's, so that its textures stay as they are.
+    pub fn visible_pieces(
+        &mut self,
+        mesh: &SurfaceMesh,
+        pieces: &[u32],
+        piece_count: usize,
+        view: &View,
+        style: &Style,
+    ) -> Result<Vec<bool>> {
+        self.set_frame(view, style)?;
+        validated(&self.gpu, || {
+            crate::visibility::visible_pieces(
+                &self.gpu,
+                &self.frame_layout,
+                &self.bind_group,
+                (mesh, pieces, piece_count),
+                (view.width, view.height),
+            )
+        })
+    }
+
     /// Creates the technique of `mode` on first use.
     fn ensure_technique(&mut self, mode: WireMode) {
         if !self.techniques.contains_key(&mode) {

@@ -398,3 +398,55 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
         .expect("three values for a box of cells");
     assert!(err.to_string().contains("3 cell values"), "{err}");
 }
+
+/// Three pieces stacked: 0 the square [-1, 1]² at z = 1, 1 the same at z = 0, and 2 a
+/// strip over x in [0.5, 1.5] at z = 0.5, which only sticks out beside the squares.
+/// Piece 3 has no triangle.
+#[test]
+fn visible_pieces_are_the_nearest_at_some_pixel_and_only_those() {
+    let mut r = renderer();
+    let plane = |x0: f32, x1: f32, z: f32| {
+        SurfaceMesh::structured(4, 4, |i, j| {
+            [x0 + (x1 - x0) * i as f32 / 4.0, -1.0 + 0.5 * j as f32, z]
+        })
+    };
+    let mut mesh = SurfaceMesh::with_origin([0.0; 3]);
+    let mut pieces = Vec::new();
+    for (piece, part) in [
+        plane(-1.0, 1.0, 1.0),
+        plane(-1.0, 1.0, 0.0),
+        plane(0.5, 1.5, 0.5),
+    ]
+    .iter()
+    .enumerate()
+    {
+        mesh.append(part);
+        pieces.resize(mesh.vertex_count(), piece as u32);
+    }
+    let view = |z: f32| View {
+        camera: Camera::look_at(Vec3::new(0.0, 0.0, z), Vec3::ZERO, Vec3::Y),
+        width: 200,
+        height: 200,
+        bounds: (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.5, 1.0, 1.0)),
+    };
+    let style = Style::default();
+    let above = r
+        .visible_pieces(&mesh, &pieces, 4, &view(6.0), &style)
+        .expect("visible pieces");
+    assert_eq!(above, [true, false, true, false], "from above");
+    let below = r
+        .visible_pieces(&mesh, &pieces, 4, &view(-6.0), &style)
+        .expect("visible pieces");
+    assert_eq!(below, [false, true, true, false], "from below");
+    assert!(
+        r.visible_pieces(&mesh, &pieces[1..], 4, &view(6.0), &style)
+            .is_err(),
+        "a piece list that does not match the vertices is refused"
+    );
+    let mut bad = pieces.clone();
+    bad[0] = 4;
+    assert!(
+        r.visible_pieces(&mesh, &bad, 4, &view(6.0), &style)
+            .is_err()
+    );
+}
