@@ -415,6 +415,14 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     };
     let (full, finest) = isolines("0.1");
     let (coarse, coarsest) = isolines("30");
+    // From above the top layer hides most of the others: the field is read only under
+    // the nodes the view shows, and the lines are still all there (F1 below).
+    for printed in [&full, &coarse] {
+        let shown = word_after(printed, "under the ").and_then(|w| w.parse::<usize>().ok());
+        let chosen = word_after(printed, "from this view: ").and_then(|w| w.parse::<usize>().ok());
+        eprintln!("{shown:?} of {chosen:?} nodes shown");
+        assert!(shown.is_some_and(|s| s > 0) && shown < chosen, "{printed}");
+    }
     assert!(
         full.contains("(100.0 %)") && full.contains("isolines every 0.02"),
         "{full}"

@@ -13,7 +13,7 @@ use strata::lod::{
 use strata::render::glam::Vec3;
 use strata::render::wire::Drawable;
 use strata::render::{
-    Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
+    Camera, CellDraw, Corners, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
 };
 use strata::scene::{colour_range, corner_field};
 
@@ -86,7 +86,8 @@ pub struct ViewArgs {
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
     /// its range when no spacing is given; every fifth line major). On whatever level is
     /// chosen they are the model's, evaluated from the full-resolution tiles under the
-    /// chosen nodes, which this reads (--wire global or none).
+    /// chosen nodes, which this reads for the nodes the view shows (a first pass finds
+    /// them) (--wire global or none).
     #[arg(long, value_name = "SPACING[:MAJOR_EVERY]", num_args = 0..=1, default_missing_value = "", value_parser = parse_iso_spacing)]
     iso: Option<IsoSpacing>,
     #[command(flatten)]
@@ -280,26 +281,6 @@ fn view(args: &ViewArgs) -> Result<()> {
     } else {
         None
     };
-    let corners = match isolines {
-        Some(_) => file.selection_corners(&chosen)?,
-        None => None,
-    };
-    let drawable = match &cells {
-        Some((cover, values)) => renderer
-            .prepare_cells(
-                &mesh,
-                &CellDraw {
-                    pieces: &cover.vertex_piece,
-                    cover,
-                    values: Some(values),
-                    corners: corners.as_deref(),
-                    mask: false,
-                    wire: wire == WireMode::Global,
-                },
-            )
-            .context("preparing the selection over the model's cells")?,
-        None => renderer.prepare(&mesh, wire)?,
-    };
     let view = View {
         camera,
         width: frame.size.0,
@@ -313,6 +294,39 @@ fn view(args: &ViewArgs) -> Result<()> {
             scalar_range,
             [mesh.origin[0], mesh.origin[1]],
         )?
+    };
+    // The isolines' field is read from the leaves under the nodes the view shows only:
+    // from above, one layer of the stack.
+    let shown = match (isolines, &cells) {
+        (Some(_), Some((cover, _))) => Some(
+            renderer
+                .visible_pieces(&mesh, &cover.vertex_piece, chosen.len(), &view, &style)
+                .context("finding the nodes the view shows")?,
+        ),
+        _ => None,
+    };
+    let corners = match isolines {
+        Some(_) => file.selection_corners(&chosen, shown.as_deref())?,
+        None => None,
+    };
+    let drawable = match &cells {
+        Some((cover, values)) => renderer
+            .prepare_cells(
+                &mesh,
+                &CellDraw {
+                    pieces: &cover.vertex_piece,
+                    cover,
+                    values: Some(values),
+                    corners: corners.as_deref().map(|values| Corners {
+                        values,
+                        of: shown.as_deref(),
+                    }),
+                    mask: false,
+                    wire: wire == WireMode::Global,
+                },
+            )
+            .context("preparing the selection over the model's cells")?,
+        None => renderer.prepare(&mesh, wire)?,
     };
     let side_drawable = match &sides {
         Some(sides) => Some(
@@ -346,7 +360,14 @@ fn view(args: &ViewArgs) -> Result<()> {
             ),
         },
         match isolines {
-            Some(iso) => format!(", isolines every {}", iso.spacing),
+            Some(iso) => format!(
+                ", isolines every {} (the model's, under the {} of {} nodes the view shows)",
+                iso.spacing,
+                shown
+                    .as_ref()
+                    .map_or(0, |s| s.iter().filter(|&&v| v).count()),
+                chosen.len()
+            ),
             None => String::new(),
         }
     );
@@ -459,7 +480,7 @@ impl SceneCells {
             pieces: &self.pieces,
             cover: &self.cover,
             values: self.values.as_deref(),
-            corners: self.corners.as_deref(),
+            corners: self.corners.as_deref().map(Corners::all),
             mask: self.mask,
             wire,
         }

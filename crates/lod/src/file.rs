@@ -933,13 +933,36 @@ impl LodFile {
     /// [`LodFile::selection_cells`] (as [`CellCover::corner_values`] orders them), read
     /// from the full-resolution leaves under each selected node: with them the
     /// renderer draws the isolines of the model's surfaces on whatever level is
-    /// chosen. Reads as many leaves as the selection covers: the drawn layers at full
-    /// resolution. `None` without a property.
-    pub fn selection_corners(&self, selection: &[u32]) -> Result<Option<Vec<f32>>> {
+    /// chosen. Only for the selected nodes that `wanted` marks (all without it), one
+    /// after another: a view reads the leaves under the nodes it shows, not the whole
+    /// model. `None` without a property.
+    pub fn selection_corners(
+        &self,
+        selection: &[u32],
+        wanted: Option<&[bool]>,
+    ) -> Result<Option<Vec<f32>>> {
         if !self.has_scalars() {
             return Ok(None);
         }
-        let pieces = selection
+        if let Some(wanted) = wanted
+            && wanted.len() != selection.len()
+        {
+            return Err(Error::Option(format!(
+                "{} nodes marked of a selection of {}",
+                wanted.len(),
+                selection.len()
+            )));
+        }
+        let chosen: Vec<u32> = match wanted {
+            Some(wanted) => selection
+                .iter()
+                .zip(wanted)
+                .filter(|(_, w)| **w)
+                .map(|(&i, _)| i)
+                .collect(),
+            None => selection.to_vec(),
+        };
+        let pieces = chosen
             .iter()
             .map(|&i| Ok(self.node_box(i)?.1))
             .collect::<Result<Vec<CoverPiece>>>()?;
@@ -952,7 +975,7 @@ impl LodFile {
             boxes.push(this);
             rest = next;
         }
-        selection
+        chosen
             .par_iter()
             .zip(&pieces)
             .zip(boxes)

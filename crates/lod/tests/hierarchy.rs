@@ -339,7 +339,7 @@ fn file_round_trip_and_selection() {
     // at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever level the
     // node is on; NaN where the layer has no face.
     let corners = file
-        .selection_corners(&chosen)
+        .selection_corners(&chosen, None)
         .unwrap()
         .expect("a property");
     assert_eq!(corners.len(), 4 * values.len());
@@ -373,10 +373,28 @@ fn file_round_trip_and_selection() {
     }
     assert!(checked > 0);
     assert!(chosen.iter().any(|&i| file.nodes()[i as usize].level > 0));
+    // Only the marked nodes' corners, one after another, when a view wants only those.
+    let wanted: Vec<bool> = (0..chosen.len()).map(|k| k % 3 == 1).collect();
+    let some = file
+        .selection_corners(&chosen, Some(&wanted))
+        .unwrap()
+        .expect("a property");
+    let mut first = 0;
+    let mut want = Vec::new();
+    for (piece, &w) in cover.pieces.iter().zip(&wanted) {
+        let cells = 4 * piece.box_cells();
+        if w {
+            want.extend_from_slice(&corners[first..first + cells]);
+        }
+        first += cells;
+    }
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert!(!want.is_empty() && bits(&some) == bits(&want));
+    assert!(file.selection_corners(&chosen, Some(&wanted[1..])).is_err());
     // Neither without a property.
     let plain = LodFile::open(&plain).unwrap();
     assert!(plain.selection_cells(&chosen).unwrap().is_none());
-    assert!(plain.selection_corners(&chosen).unwrap().is_none());
+    assert!(plain.selection_corners(&chosen, None).unwrap().is_none());
 }
 
 /// Layers are built in parallel batches, each written while the next is built: the
@@ -564,7 +582,7 @@ fn random_damage_never_panics() {
                 let selection = file.select(&view, max_pixels);
                 let _ = file.selection_mesh(&selection);
                 let _ = file.selection_cells(&selection);
-                let _ = file.selection_corners(&selection);
+                let _ = file.selection_corners(&selection, None);
             }
             for l in 0..file.layers().len() {
                 let _ = file.layer_sides(l);

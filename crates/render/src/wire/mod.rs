@@ -11,8 +11,8 @@ pub mod reference;
 mod texture;
 mod wire_texture;
 
-pub use texture::CellDraw;
 pub(crate) use texture::CellTechnique;
+pub use texture::{CellDraw, Corners};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;

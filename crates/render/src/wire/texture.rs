@@ -400,14 +400,36 @@ pub struct CellDraw<'a> {
     /// `cover.corner_values(original)`, of the field the frame's isolines follow:
     /// each fragment evaluates the original's field from its texture coordinates, so
     /// the isolines are the original's as the grid lines are, and none are drawn
-    /// outside its cells. Without them, isolines follow the vertex scalars.
-    pub corners: Option<&'a [f32]>,
+    /// outside its cells. Without them (or for a piece they leave out), isolines
+    /// follow the vertex scalars.
+    pub corners: Option<Corners<'a>>,
     /// Discard the fragments over cells their piece does not cover: for surfaces
     /// decimated with strata-lod's `Options::cover`, whose outlines only grew outward.
     pub mask: bool,
     /// Draw the original's grid lines (the global wireframe); without, the cells'
     /// colours and the isolines only.
     pub wire: bool,
+}
+
+/// The field at the corners of the cells of the pieces of a cell cover: four values
+/// per cell of each piece's box (as strata-lod's `CellCover::corner_values` orders
+/// them), one piece after another, for the pieces that `of` marks (all without it).
+#[derive(Clone, Copy, Debug)]
+pub struct Corners<'a> {
+    pub values: &'a [f32],
+    pub of: Option<&'a [bool]>,
+}
+
+impl<'a> Corners<'a> {
+    /// The corners of every piece.
+    pub fn all(values: &'a [f32]) -> Self {
+        Corners { values, of: None }
+    }
+
+    /// Whether piece `p` has its corners here.
+    fn has(&self, p: usize) -> bool {
+        self.of.is_none_or(|of| of[p])
+    }
 }
 
 impl CellTechnique {
@@ -516,10 +538,11 @@ impl CellTechnique {
         let device = &gpu.device;
         let mut batches = Vec::new();
         let mut texels_bytes = 0;
-        for ((batch, cells), triangles) in plan
+        for (((batch, cells), corner_range), triangles) in plan
             .batches
             .iter()
             .zip(&plan.batch_cells)
+            .zip(&plan.batch_corners)
             .zip(&plan.triangle_ranges)
         {
             if triangles.is_empty() {
@@ -529,7 +552,10 @@ impl CellTechnique {
                 &cover.pieces[batch.clone()],
                 batch.start,
                 values.map(|v| &v[cells.clone()]),
-                corners.map(|c| &c[4 * cells.start..4 * cells.end]),
+                corners.map(|c| Corners {
+                    values: &c.values[corner_range.clone()],
+                    of: c.of.map(|of| &of[batch.clone()]),
+                }),
             )?;
             let rows = texels.len().div_ceil(width).max(1);
             texels.resize(width * rows, 0);
@@ -610,6 +636,8 @@ struct CoverPlan {
     batches: Vec<Range<usize>>,
     /// Per batch, its pieces' cells (and values) among all the pieces'.
     batch_cells: Vec<Range<usize>>,
+    /// Per batch, its pieces' corner values among all of them.
+    batch_corners: Vec<Range<usize>>,
     triangles: Vec<[u32; 3]>,
     /// Per batch, its triangles in `triangles`.
     triangle_ranges: Vec<Range<u32>>,
@@ -633,24 +661,45 @@ impl CoverPlan {
                 values.len()
             )));
         }
-        if let Some(corners) = corners
-            && corners.len() != 4 * cell_count
+        if let Some(of) = corners.and_then(|c| c.of)
+            && of.len() != cover.pieces.len()
         {
             return Err(Error::Invalid(format!(
-                "{} corner values for a cover of {cell_count} cells (four each)",
-                corners.len()
+                "corners marked for {} pieces of a cover of {}",
+                of.len(),
+                cover.pieces.len()
+            )));
+        }
+        // Corner values of each piece: four per cell of its box where it has them.
+        let piece_corners = |i: usize, p: &CoverPiece| {
+            corners.map_or(0, |c| if c.has(i) { 4 * p.box_cells() } else { 0 })
+        };
+        let corner_count: usize = cover
+            .pieces
+            .iter()
+            .enumerate()
+            .map(|(i, p)| piece_corners(i, p))
+            .sum();
+        if let Some(corners) = corners
+            && corners.values.len() != corner_count
+        {
+            return Err(Error::Invalid(format!(
+                "{} corner values for {corner_count} (four per cell of the pieces that have them)",
+                corners.values.len()
             )));
         }
         let mut batches: Vec<Range<usize>> = Vec::new();
         let mut batch_cells: Vec<Range<usize>> = Vec::new();
+        let mut batch_corners: Vec<Range<usize>> = Vec::new();
         let mut batch_of_piece = Vec::with_capacity(cover.pieces.len());
         let mut words = 1;
         let mut cells = 0;
+        let mut corner_end = 0;
         for (i, p) in cover.pieces.iter().enumerate() {
             let w = COVER_HEADER
                 + p.bits.len()
                 + values.map_or(0, |_| p.box_cells())
-                + corners.map_or(0, |_| 4 * p.box_cells());
+                + piece_corners(i, p);
             if 1 + w > capacity {
                 return Err(Error::Invalid(format!(
                     "piece {i} of the cell cover takes {w} words, more than this adapter's \
@@ -659,15 +708,23 @@ impl CoverPlan {
             }
             let box_cells = cells..cells + p.box_cells();
             cells = box_cells.end;
-            match (batches.last_mut(), batch_cells.last_mut()) {
-                (Some(b), Some(c)) if words + w <= capacity => {
+            let box_corners = corner_end..corner_end + piece_corners(i, p);
+            corner_end = box_corners.end;
+            match (
+                batches.last_mut(),
+                batch_cells.last_mut(),
+                batch_corners.last_mut(),
+            ) {
+                (Some(b), Some(c), Some(k)) if words + w <= capacity => {
                     b.end = i + 1;
                     c.end = box_cells.end;
+                    k.end = box_corners.end;
                     words += w;
                 }
                 _ => {
                     batches.push(i..i + 1);
                     batch_cells.push(box_cells);
+                    batch_corners.push(box_corners);
                     words = 1 + w;
                 }
             }
@@ -692,6 +749,7 @@ impl CoverPlan {
             triangle_ranges: starts.windows(2).map(|w| w[0]..w[1]).collect(),
             batches,
             batch_cells,
+            batch_corners,
             triangles,
         })
     }
@@ -706,12 +764,12 @@ fn cover_words(
     pieces: &[CoverPiece],
     first_piece: usize,
     values: Option<&[f32]>,
-    corners: Option<&[f32]>,
+    corners: Option<Corners>,
 ) -> Result<Vec<u32>> {
     let bit_words: usize = pieces.iter().map(|p| p.bits.len()).sum();
     let header = 1 + COVER_HEADER * pieces.len();
     let value_words = values.map_or(0, <[f32]>::len);
-    let total = header + bit_words + value_words + corners.map_or(0, <[f32]>::len);
+    let total = header + bit_words + value_words + corners.map_or(0, |c| c.values.len());
     let word = |offset: usize| {
         u32::try_from(offset)
             .ok()
@@ -723,7 +781,8 @@ fn cover_words(
     let mut bits = header;
     let mut first_value = bits + bit_words;
     let mut first_corner = first_value + value_words;
-    for p in pieces {
+    for (i, p) in pieces.iter().enumerate() {
+        let has_corners = corners.is_some_and(|c| c.has(i));
         words.extend([
             p.origin[0] as u32,
             p.origin[1] as u32,
@@ -734,14 +793,17 @@ fn cover_words(
                 Some(_) => word(first_value)?,
                 None => NO_VALUES,
             },
-            match corners {
-                Some(_) => word(first_corner)?,
-                None => NO_VALUES,
+            if has_corners {
+                word(first_corner)?
+            } else {
+                NO_VALUES
             },
         ]);
         bits += p.bits.len();
         first_value += p.box_cells();
-        first_corner += 4 * p.box_cells();
+        if has_corners {
+            first_corner += 4 * p.box_cells();
+        }
     }
     for p in pieces {
         words.extend_from_slice(&p.bits);
@@ -754,7 +816,7 @@ fn cover_words(
         }
     };
     words.extend(values.into_iter().flatten().map(scalar_bits));
-    words.extend(corners.into_iter().flatten().map(scalar_bits));
+    words.extend(corners.into_iter().flat_map(|c| c.values).map(scalar_bits));
     Ok(words)
 }
 
@@ -885,9 +947,36 @@ mod tests {
                 .expect("render");
             (plan.batches.len(), image)
         };
-        let all = draw(Some(&values), Some(&corners));
+        let all = draw(Some(&values), Some(Corners::all(&corners)));
         let (one, whole) = frame(all, 1 << 20, &with_isolines);
         let (nine, batched) = frame(all, 1 + piece_words, &with_isolines);
+        // Corners for every other piece only: the others' isolines follow the vertex
+        // scalars, and batches still cut the values where the pieces have them.
+        let marked: Vec<bool> = (0..cover.pieces.len()).map(|p| p % 2 == 0).collect();
+        let some: Vec<f32> = cover
+            .pieces
+            .iter()
+            .zip(&marked)
+            .scan(0, |start, (p, &m)| {
+                let range = *start..*start + 4 * p.box_cells();
+                *start = range.end;
+                Some(if m {
+                    corners[range].to_vec()
+                } else {
+                    Vec::new()
+                })
+            })
+            .flatten()
+            .collect();
+        let partial = draw(
+            Some(&values),
+            Some(Corners {
+                values: &some,
+                of: Some(&marked),
+            }),
+        );
+        let (_, partial_whole) = frame(partial, 1 << 20, &with_isolines);
+        let (_, partial_batched) = frame(partial, 1 + piece_words, &with_isolines);
         let (_, no_isolines) = frame(all, 1 << 20, &plain);
         let (_, interpolated) = frame(draw(None, None), 1 << 20, &plain);
         assert_eq!((one, nine), (1, 9));
@@ -895,6 +984,15 @@ mod tests {
             a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count()
         };
         assert_eq!(differing(&whole, &batched), 0, "batches change the frame");
+        assert_eq!(
+            differing(&partial_whole, &partial_batched),
+            0,
+            "batches change the frame with corners for some pieces"
+        );
+        assert!(
+            differing(&whole, &partial_whole) > 240 * 240 / 200,
+            "pieces without corners draw the vertex scalars' isolines"
+        );
         assert!(
             differing(&whole, &no_isolines) > 240 * 240 / 50,
             "the corner values draw isolines"
@@ -908,8 +1006,21 @@ mod tests {
             "a piece larger than a texture is refused"
         );
         assert!(
-            CoverPlan::new(&mesh, &draw(None, Some(&corners[4..])), 1 << 20).is_err(),
+            CoverPlan::new(
+                &mesh,
+                &draw(None, Some(Corners::all(&corners[4..]))),
+                1 << 20
+            )
+            .is_err(),
             "corner values of another cover are refused"
+        );
+        let wrong = Corners {
+            values: &some,
+            of: Some(&marked[1..]),
+        };
+        assert!(
+            CoverPlan::new(&mesh, &draw(None, Some(wrong)), 1 << 20).is_err(),
+            "marks for another number of pieces are refused"
         );
     }
 }
