@@ -86,8 +86,8 @@ pub struct ViewArgs {
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
     /// its range when no spacing is given; every fifth line major). On whatever level is
     /// chosen they are the model's, evaluated from the full-resolution tiles under the
-    /// chosen nodes, which this reads for the nodes the view shows (a first pass finds
-    /// them) (--wire global or none).
+    /// chosen nodes, which this reads only for the nodes the view shows, found by a
+    /// first pass (--wire global or none).
     #[arg(long, value_name = "SPACING[:MAJOR_EVERY]", num_args = 0..=1, default_missing_value = "", value_parser = parse_iso_spacing)]
     iso: Option<IsoSpacing>,
     #[command(flatten)]
