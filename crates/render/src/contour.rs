@@ -10,7 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
-use crate::wire::{DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, frame_target};
+use crate::wire::{Drawable, FrameTargets, PipelineContext, frame_target, reversed_depth};
 use crate::{Error, Gpu, Isolines, Result};
 
 /// One contour line: points in the mesh's display frame.
@@ -177,13 +177,7 @@ impl ContourTechnique {
                 topology: wgpu::PrimitiveTopology::LineList,
                 ..Default::default()
             },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
+            depth_stencil: Some(reversed_depth(false)),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: &module,

@@ -688,6 +688,25 @@ fn upload_colormap(gpu: &Gpu, colormap: Colormap) -> wgpu::TextureView {
     texture.create_view(&Default::default())
 }
 
+/// A buffer to read back a `width` x `height` texture of 4-byte texels, and its row
+/// pitch in bytes (rows padded to the copy alignment).
+pub(crate) fn readback_buffer(
+    gpu: &Gpu,
+    label: &str,
+    width: u32,
+    height: u32,
+) -> (wgpu::Buffer, u32) {
+    let padded_row = (4 * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: u64::from(padded_row) * u64::from(height),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    (buffer, padded_row)
+}
+
 fn make_targets(gpu: &Gpu, width: u32, height: u32) -> Targets {
     let size = wgpu::Extent3d {
         width,
@@ -716,14 +735,7 @@ fn make_targets(gpu: &Gpu, width: u32, height: u32) -> Targets {
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
     );
-    let padded_row = (4 * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: u64::from(padded_row) * u64::from(height),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
+    let (readback, padded_row) = readback_buffer(gpu, "readback", width, height);
     Targets {
         width,
         height,

@@ -6,7 +6,8 @@ use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
 use crate::gpu::Gpu;
-use crate::wire::DEPTH_FORMAT;
+use crate::renderer::readback_buffer;
+use crate::wire::{DEPTH_FORMAT, reversed_depth};
 use crate::{Error, Result};
 
 /// Piece + 1 per pixel; 0 where no surface is.
@@ -90,13 +91,7 @@ pub(crate) fn visible_pieces(
             cull_mode: None,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(reversed_depth(true)),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module: &module,
@@ -156,14 +151,7 @@ pub(crate) fn visible_pieces(
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT,
     );
-    let padded_row = (4 * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-        * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let readback = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("pieces readback"),
-        size: u64::from(padded_row) * u64::from(height),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
+    let (readback, padded_row) = readback_buffer(gpu, "pieces readback", width, height);
     let mut encoder = device.create_command_encoder(&Default::default());
     {
         let ids_view = ids.create_view(&Default::default());

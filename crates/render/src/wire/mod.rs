@@ -228,6 +228,18 @@ pub(crate) fn texture_variant(frame: &FrameTargets) -> usize {
     form + 2 * usize::from(extra)
 }
 
+/// The frame's depth test: reversed depth (near is 1), the nearer or equal surface
+/// passing, depth written with `write`.
+pub(crate) fn reversed_depth(write: bool) -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(write),
+        depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
+
 /// [`pipeline`] with values for the shader's `override` constants.
 fn pipeline_with(
     ctx: &PipelineContext,
@@ -264,13 +276,7 @@ fn pipeline_with(
             cull_mode: None,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(reversed_depth(true)),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
