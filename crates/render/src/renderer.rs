@@ -707,24 +707,33 @@ pub(crate) fn readback_buffer(
     (buffer, padded_row)
 }
 
+/// A `width` x `height` single-sample 2D texture.
+pub(crate) fn frame_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
 fn make_targets(gpu: &Gpu, width: u32, height: u32) -> Targets {
-    let size = wgpu::Extent3d {
-        width,
-        height,
-        depth_or_array_layers: 1,
-    };
-    let target = |format, usage| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("frame target"),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
-    };
+    let target =
+        |format, usage| frame_texture(&gpu.device, "frame target", (width, height), format, usage);
     let color = target(
         COLOR_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT

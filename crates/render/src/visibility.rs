@@ -6,7 +6,7 @@ use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
 use crate::gpu::Gpu;
-use crate::renderer::readback_buffer;
+use crate::renderer::{frame_texture, readback_buffer};
 use crate::wire::{DEPTH_FORMAT, reversed_depth};
 use crate::{Error, Result};
 
@@ -124,23 +124,8 @@ pub(crate) fn visible_pieces(
         bytemuck::cast_slice(&mesh.triangles),
         wgpu::BufferUsages::INDEX,
     );
-    let size = wgpu::Extent3d {
-        width,
-        height,
-        depth_or_array_layers: 1,
-    };
-    let target = |label, format, usage| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: Some(label),
-            size,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
-    };
+    let target =
+        |label, format, usage| frame_texture(device, label, (width, height), format, usage);
     let ids = target(
         "pieces",
         PIECE_FORMAT,
@@ -196,7 +181,7 @@ pub(crate) fn visible_pieces(
                 rows_per_image: Some(height),
             },
         },
-        size,
+        ids.size(),
     );
     gpu.queue.submit([encoder.finish()]);
     gpu.map_read(&readback)?;

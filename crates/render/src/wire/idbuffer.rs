@@ -29,6 +29,7 @@ use super::lines::{
     storage, storage_layout, triangle_records,
 };
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode, frame_target};
+use crate::renderer::frame_texture;
 use crate::{Gpu, HiddenLines, Result};
 
 /// Polygon ID plus one, and the polygon's depth bits.
@@ -262,22 +263,9 @@ impl IdBufferDraw {
         let mut targets = self.targets.borrow_mut();
         if targets.as_ref().is_none_or(|t| t.size != (width, height)) {
             let texture = |label, format| {
-                self.device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(label),
-                        size: wgpu::Extent3d {
-                            width,
-                            height,
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format,
-                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                            | wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    })
+                let usage =
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+                frame_texture(&self.device, label, (width, height), format, usage)
                     .create_view(&Default::default())
             };
             let ids = texture("idbuffer ids", ID_FORMAT);
