@@ -18,7 +18,7 @@ use strata::render::{
 use strata::scene::{colour_range, corner_field};
 
 use super::style::{
-    FrameArgs, IsoSpacing, StyleArgs, decimated_wire, layer_range, parse_iso_spacing, parse_layers,
+    FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso_spacing,
 };
 
 #[derive(Subcommand)]
@@ -30,7 +30,9 @@ pub enum LodCommand {
     /// and colours of `strata render`. With --wire global the original grid is drawn
     /// on whatever level is chosen, each cell in its own colour as the model's faces
     /// are (as with none, without the grid); with the others colours are interpolated
-    /// between nodes.
+    /// between nodes. A layer is its top surface (and the model's bottom with the last
+    /// layer), as the hierarchy stores them; its side faces are stored at full
+    /// resolution and painted cell by cell as `strata render --sides` paints them.
     View(ViewArgs),
 }
 
@@ -69,18 +71,8 @@ pub struct ViewArgs {
     /// Largest projected error of a chosen node, in pixels.
     #[arg(long, default_value_t = 1.0)]
     pixels: f32,
-    /// One layer, 1-based: its top surface (and the model's bottom with the last
-    /// layer), which the hierarchy stores.
-    #[arg(long, conflicts_with = "layers")]
-    layer: Option<usize>,
-    /// A range of layers, 1-based and inclusive: A..B, their top surfaces (and the
-    /// model's bottom with the last layer).
-    #[arg(long, value_parser = parse_layers)]
-    layers: Option<(usize, usize)>,
-    /// Also the drawn layers' side faces: the outer shell and fault walls, stored at
-    /// full resolution and painted cell by cell as `strata render --sides` paints them.
-    #[arg(long)]
-    sides: bool,
+    #[command(flatten)]
+    drawn: LayerArgs,
     #[command(flatten)]
     style: StyleArgs,
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
@@ -172,7 +164,7 @@ fn view(args: &ViewArgs) -> Result<()> {
     let Some(nz) = nz else {
         bail!("{}: no layer surface", args.file.display());
     };
-    let layers = layer_range(args.layer, args.layers, nz)?;
+    let layers = args.drawn.range(nz)?;
     let drawn: Vec<bool> = file
         .layers()
         .iter()
@@ -196,7 +188,7 @@ fn view(args: &ViewArgs) -> Result<()> {
     }
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let frame = &args.frame;
-    let sides = if args.sides {
+    let sides = if args.drawn.sides {
         drawn_sides(&file, &drawn)?
     } else {
         None

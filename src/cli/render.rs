@@ -12,9 +12,7 @@ use strata::render::{
 };
 use strata::scene::{SceneOptions, build};
 
-use super::style::{
-    FrameArgs, IsoSpacing, StyleArgs, decimated_wire, layer_range, parse_iso, parse_layers,
-};
+use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso};
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -23,15 +21,8 @@ pub struct RenderArgs {
     /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
     #[arg(long = "props", value_name = "FILE")]
     props: Vec<PathBuf>,
-    /// One layer, 1-based.
-    #[arg(long, conflicts_with = "layers")]
-    layer: Option<usize>,
-    /// A range of layers, 1-based and inclusive: A..B.
-    #[arg(long, value_parser = parse_layers)]
-    layers: Option<(usize, usize)>,
-    /// Also draw the side faces: the outer shell and fault walls.
-    #[arg(long)]
-    sides: bool,
+    #[command(flatten)]
+    drawn: LayerArgs,
     #[command(flatten)]
     style: StyleArgs,
     /// Property colouring the cells (default: PORO when the model has it).
@@ -93,7 +84,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         None => args.style.wire,
     };
     let (_, grid) = super::open_model(args.model.as_deref(), &args.props)?;
-    let layers = layer_range(args.layer, args.layers, grid.dims().nz)?;
+    let layers = args.drawn.range(grid.dims().nz)?;
     let property = if args.no_property {
         None
     } else {
@@ -104,7 +95,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let options = SceneOptions {
         layers,
-        sides: args.sides,
+        sides: args.drawn.sides,
         property,
         flat_cells: !args.smooth && args.lod.is_none(),
     };

@@ -249,8 +249,30 @@ fn parse_hidden(s: &str) -> Result<HiddenLines, String> {
         .ok_or_else(|| format!("unknown hidden-line style {s:?}; one of tehs, tehd, cehs, cehd"))
 }
 
+/// Which layers a picture draws, and whether their side faces: `strata render` and
+/// `strata lod view` alike.
+#[derive(Args)]
+pub struct LayerArgs {
+    /// One layer, 1-based.
+    #[arg(long, conflicts_with = "layers")]
+    layer: Option<usize>,
+    /// A range of layers, 1-based and inclusive: A..B.
+    #[arg(long, value_parser = parse_layers)]
+    layers: Option<(usize, usize)>,
+    /// Also draw the drawn layers' side faces: the outer shell and fault walls.
+    #[arg(long)]
+    pub sides: bool,
+}
+
+impl LayerArgs {
+    /// The layers asked for, of a model of `nz` layers (see [`layer_range`]).
+    pub fn range(&self, nz: usize) -> Result<Option<std::ops::Range<usize>>> {
+        layer_range(self.layer, self.layers, nz)
+    }
+}
+
 /// A 1-based inclusive range of layers, A..B.
-pub(crate) fn parse_layers(s: &str) -> Result<(usize, usize), String> {
+fn parse_layers(s: &str) -> Result<(usize, usize), String> {
     let (a, b) = s
         .split_once("..")
         .ok_or_else(|| format!("expected A..B, got {s:?}"))?;
@@ -270,7 +292,7 @@ pub(crate) fn parse_layers(s: &str) -> Result<(usize, usize), String> {
 
 /// `--layer K` or `--layers A..B` of a model of `nz` layers, as 0-based layers (end
 /// exclusive); `None` for all.
-pub(crate) fn layer_range(
+fn layer_range(
     layer: Option<usize>,
     layers: Option<(usize, usize)>,
     nz: usize,
