@@ -7,7 +7,7 @@ use wgpu::util::DeviceExt;
 
 use crate::gpu::Gpu;
 use crate::renderer::{frame_texture, readback_buffer};
-use crate::wire::{DEPTH_FORMAT, reversed_depth};
+use crate::wire::{DEPTH_FORMAT, PipelineContext, pipeline_into};
 use crate::{Error, Result};
 
 /// Piece + 1 per pixel; 0 where no surface is.
@@ -61,47 +61,27 @@ pub(crate) fn visible_pieces(
             format!("{}{SHADER}", include_str!("wire/common.wgsl")).into(),
         ),
     });
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("visible pieces"),
-        bind_group_layouts: &[Some(frame_layout)],
-        immediate_size: 0,
-    });
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("visible pieces"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs_piece"),
-            compilation_options: Default::default(),
-            buffers: &[
-                Some(wgpu::VertexBufferLayout {
-                    array_stride: 12,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-                }),
-                Some(wgpu::VertexBufferLayout {
-                    array_stride: 4,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![1 => Uint32],
-                }),
-            ],
-        },
-        primitive: wgpu::PrimitiveState {
-            topology: wgpu::PrimitiveTopology::TriangleList,
-            cull_mode: None,
-            ..Default::default()
-        },
-        depth_stencil: Some(reversed_depth(true)),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs_piece"),
-            compilation_options: Default::default(),
-            targets: &[Some(PIECE_FORMAT.into())],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
+    let ctx = PipelineContext { gpu, frame_layout };
+    let pipeline = pipeline_into(
+        &ctx,
+        "visible pieces",
+        &module,
+        ("vs_piece", "fs_piece"),
+        &[
+            Some(wgpu::VertexBufferLayout {
+                array_stride: 12,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+            }),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: 4,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &wgpu::vertex_attr_array![1 => Uint32],
+            }),
+        ],
+        (&[], &[]),
+        Some(PIECE_FORMAT.into()),
+    );
     let buffer = |label, contents: &[u8], usage| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),

@@ -245,10 +245,32 @@ fn pipeline_with(
     ctx: &PipelineContext,
     label: &str,
     module: &wgpu::ShaderModule,
-    (vs, fs): (&str, &str),
+    entries: (&str, &str),
     buffers: &[Option<wgpu::VertexBufferLayout>],
     extra_layouts: &[&wgpu::BindGroupLayout],
     constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    let target = frame_target(Some(wgpu::BlendState::ALPHA_BLENDING));
+    pipeline_into(
+        ctx,
+        label,
+        module,
+        entries,
+        buffers,
+        (extra_layouts, constants),
+        target,
+    )
+}
+
+/// [`pipeline_with`] drawing into `target` instead of the frame's colour.
+pub(crate) fn pipeline_into(
+    ctx: &PipelineContext,
+    label: &str,
+    module: &wgpu::ShaderModule,
+    (vs, fs): (&str, &str),
+    buffers: &[Option<wgpu::VertexBufferLayout>],
+    (extra_layouts, constants): (&[&wgpu::BindGroupLayout], &[(&str, f64)]),
+    target: Option<wgpu::ColorTargetState>,
 ) -> wgpu::RenderPipeline {
     let options = wgpu::PipelineCompilationOptions {
         constants,
@@ -282,7 +304,7 @@ fn pipeline_with(
             module,
             entry_point: Some(fs),
             compilation_options: options,
-            targets: &[frame_target(Some(wgpu::BlendState::ALPHA_BLENDING))],
+            targets: &[target],
         }),
         multiview_mask: None,
         cache: None,
