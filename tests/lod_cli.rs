@@ -416,12 +416,16 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     let (full, finest) = isolines("0.1");
     let (coarse, coarsest) = isolines("30");
     // From above the top layer hides most of the others: the field is read only under
-    // the nodes the view shows, and the lines are still all there (F1 below).
+    // the tiles the view shows, and the lines are still all there (F1 below).
     for printed in [&full, &coarse] {
-        let shown = word_after(printed, "under the ").and_then(|w| w.parse::<usize>().ok());
-        let chosen = word_after(printed, "from this view: ").and_then(|w| w.parse::<usize>().ok());
-        eprintln!("{shown:?} of {chosen:?} nodes shown");
-        assert!(shown.is_some_and(|s| s > 0) && shown < chosen, "{printed}");
+        let count = |after: &str| word_after(printed, after).and_then(|w| w.parse::<usize>().ok());
+        let shown = count("leaves under the ");
+        let tiles = printed
+            .split_once("leaves under the ")
+            .and_then(|(_, rest)| word_after(rest, " of "))
+            .and_then(|w| w.parse::<usize>().ok());
+        eprintln!("{shown:?} of {tiles:?} tiles shown");
+        assert!(shown.is_some_and(|s| s > 0) && shown < tiles, "{printed}");
     }
     assert!(
         full.contains("(100.0 %)") && full.contains("isolines every 0.02"),

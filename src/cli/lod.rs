@@ -78,7 +78,7 @@ pub struct ViewArgs {
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
     /// its range when no spacing is given; every fifth line major). On whatever level is
     /// chosen they are the model's, evaluated from the full-resolution tiles under the
-    /// chosen nodes, which this reads only for the nodes the view shows, found by a
+    /// chosen nodes, which this reads only for the tiles the view shows, found by a
     /// first pass (--wire global or none).
     #[arg(long, value_name = "SPACING[:MAJOR_EVERY]", num_args = 0..=1, default_missing_value = "", value_parser = parse_iso_spacing)]
     iso: Option<IsoSpacing>,
@@ -287,13 +287,15 @@ fn view(args: &ViewArgs) -> Result<()> {
             [mesh.origin[0], mesh.origin[1]],
         )?
     };
-    // The isolines' field is read from the leaves under the nodes the view shows only:
-    // from above, one layer of the stack.
+    // The isolines' field is read from the leaves under the part of each node the view
+    // shows, tile by tile: from above, one layer of the stack; obliquely, the top and
+    // the others' edges.
+    let tile = file.tile_cells();
     let shown = match (isolines, &cells) {
         (Some(_), Some((cover, _))) => Some(
             renderer
-                .visible_pieces(&mesh, &cover.vertex_piece, chosen.len(), &view, &style)
-                .context("finding the nodes the view shows")?,
+                .visible_tiles(&mesh, (cover, tile), &view, &style)
+                .context("finding the tiles the view shows")?,
         ),
         _ => None,
     };
@@ -311,6 +313,7 @@ fn view(args: &ViewArgs) -> Result<()> {
                     values: Some(values),
                     corners: corners.as_deref().map(|values| Corners {
                         values,
+                        tile,
                         of: shown.as_deref(),
                     }),
                     mask: false,
@@ -353,12 +356,13 @@ fn view(args: &ViewArgs) -> Result<()> {
         },
         match isolines {
             Some(iso) => format!(
-                ", isolines every {} (the model's, under the {} of {} nodes the view shows)",
+                ", isolines every {} (the model's, read from the leaves under the {} of {} \
+                 tiles the view shows)",
                 iso.spacing,
                 shown
                     .as_ref()
                     .map_or(0, |s| s.iter().filter(|&&v| v).count()),
-                chosen.len()
+                shown.as_ref().map_or(0, Vec::len)
             ),
             None => String::new(),
         }

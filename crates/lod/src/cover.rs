@@ -46,6 +46,57 @@ impl CoverPiece {
         }
         Some((y * i64::from(self.size[0]) + x) as usize)
     }
+
+    /// Tiles across and down the box cut into squares of `side` cells from its origin
+    /// (the last ones clipped to it): a view that shows a few of a large piece's cells
+    /// is given a field's values for the tiles it shows only. One tile with `side` as
+    /// large as the box.
+    pub fn tiles(&self, side: u32) -> [u32; 2] {
+        let side = side.max(1);
+        self.size.map(|s| s.div_ceil(side))
+    }
+
+    /// Tiles in the box, see [`CoverPiece::tiles`].
+    pub fn tile_count(&self, side: u32) -> usize {
+        let [x, y] = self.tiles(side);
+        x as usize * y as usize
+    }
+
+    /// The cells of tile `t` (row by row, see [`CoverPiece::tiles`]) relative to the
+    /// origin: `x0, y0, x1, y1`, ends excluded.
+    pub fn tile_box(&self, side: u32, t: usize) -> [u32; 4] {
+        let side = side.max(1);
+        let across = self.tiles(side)[0].max(1) as usize;
+        let (tx, ty) = ((t % across) as u32, (t / across) as u32);
+        let lo = [tx, ty].map(|c| c.saturating_mul(side));
+        [
+            lo[0],
+            lo[1],
+            lo[0].saturating_add(side).min(self.size[0]),
+            lo[1].saturating_add(side).min(self.size[1]),
+        ]
+    }
+
+    /// Cells in tile `t`, see [`CoverPiece::tile_box`].
+    pub fn tile_cells(&self, side: u32, t: usize) -> usize {
+        let [x0, y0, x1, y1] = self.tile_box(side, t);
+        (x1 - x0) as usize * (y1 - y0) as usize
+    }
+
+    /// The tile of `cell` and its place in the tile, row by row; `None` outside the
+    /// box.
+    pub fn tile_slot(&self, side: u32, cell: [i32; 2]) -> Option<(usize, usize)> {
+        let slot = self.slot(cell)?;
+        let side = side.max(1);
+        let x = (slot % self.size[0] as usize) as u32;
+        let y = (slot / self.size[0] as usize) as u32;
+        let t = (y / side) as usize * self.tiles(side)[0] as usize + (x / side) as usize;
+        let [x0, y0, x1, _] = self.tile_box(side, t);
+        Some((
+            t,
+            (y - y0) as usize * (x1 - x0) as usize + (x - x0) as usize,
+        ))
+    }
 }
 
 /// The connected pieces of a surface (triangles joined by shared vertices) and the
@@ -440,6 +491,42 @@ mod tests {
         assert!(err.to_string().contains("triangle 2"), "{err}");
         mesh.scalars.clear();
         assert!(cover.corner_values(&mesh).is_err(), "no scalars");
+    }
+
+    #[test]
+    fn tiles_cut_a_box_from_its_origin_and_number_its_cells_row_by_row() {
+        let piece = CoverPiece {
+            origin: [10, 20],
+            size: [5, 3],
+            bits: Vec::new(),
+        };
+        assert_eq!(piece.tiles(2), [3, 2]);
+        assert_eq!(piece.tile_count(2), 6);
+        assert_eq!(piece.tile_box(2, 0), [0, 0, 2, 2]);
+        assert_eq!(piece.tile_box(2, 2), [4, 0, 5, 2], "clipped to the box");
+        assert_eq!(piece.tile_box(2, 5), [4, 2, 5, 3]);
+        assert_eq!(piece.tile_cells(2, 5), 1);
+        assert_eq!(piece.tile_slot(2, [10, 20]), Some((0, 0)));
+        assert_eq!(piece.tile_slot(2, [13, 21]), Some((1, 3)));
+        assert_eq!(piece.tile_slot(2, [14, 21]), Some((2, 1)));
+        assert_eq!(piece.tile_slot(2, [13, 22]), Some((4, 1)));
+        assert_eq!(piece.tile_slot(2, [15, 20]), None);
+        // Every cell in exactly one tile, each tile's places 0.. its cell count.
+        let mut seen = vec![Vec::new(); 6];
+        for y in 20..23 {
+            for x in 10..15 {
+                let (t, at) = piece.tile_slot(2, [x, y]).expect("in the box");
+                seen[t].push(at);
+            }
+        }
+        for (t, places) in seen.iter().enumerate() {
+            let cells = piece.tile_cells(2, t);
+            assert_eq!(*places, (0..cells).collect::<Vec<_>>(), "tile {t}");
+        }
+        // A side as large as the box: one tile, its places the box's slots.
+        assert_eq!(piece.tiles(u32::MAX), [1, 1]);
+        assert_eq!(piece.tile_box(u32::MAX, 0), [0, 0, 5, 3]);
+        assert_eq!(piece.tile_slot(u32::MAX, [13, 22]), Some((0, 13)));
     }
 
     #[test]

@@ -930,12 +930,14 @@ impl LodFile {
     }
 
     /// The stored scalar at the four corners of every cell of the boxes of
-    /// [`LodFile::selection_cells`] (as [`CellCover::corner_values`] orders them), read
-    /// from the full-resolution leaves under each selected node: with them the
-    /// renderer draws the isolines of the model's surfaces on whatever level is
-    /// chosen. Only for the selected nodes that `wanted` marks (all without it), one
-    /// after another: a view reads the leaves under the nodes it shows, not the whole
-    /// model. `None` without a property.
+    /// [`LodFile::selection_cells`] (each cell's as [`CellCover::corner_values`] orders
+    /// them), read from the full-resolution leaves under each selected node: with them
+    /// the renderer draws the isolines of the model's surfaces on whatever level is
+    /// chosen. Each box comes cut into tiles of [`LodFile::tile_cells`] (its leaves'
+    /// squares, see [`CoverPiece::tiles`]), tile after tile and node after node, each
+    /// tile's cells row by row. Only for the tiles that `wanted` marks, one flag per
+    /// tile of each box in that order (all without it): a view reads the leaves under
+    /// the part of the model it shows, not the whole model. `None` without a property.
     pub fn selection_corners(
         &self,
         selection: &[u32],
@@ -944,42 +946,57 @@ impl LodFile {
         if !self.has_scalars() {
             return Ok(None);
         }
-        if let Some(wanted) = wanted
-            && wanted.len() != selection.len()
-        {
-            return Err(Error::Option(format!(
-                "{} nodes marked of a selection of {}",
-                wanted.len(),
-                selection.len()
-            )));
-        }
-        let chosen: Vec<u32> = match wanted {
-            Some(wanted) => selection
-                .iter()
-                .zip(wanted)
-                .filter(|(_, w)| **w)
-                .map(|(&i, _)| i)
-                .collect(),
-            None => selection.to_vec(),
-        };
-        let pieces = chosen
+        let side = self.tile_cells();
+        let pieces = selection
             .iter()
             .map(|&i| Ok(self.node_box(i)?.1))
             .collect::<Result<Vec<CoverPiece>>>()?;
-        let mut corners =
-            vec![f32::NAN; 4 * pieces.iter().map(CoverPiece::box_cells).sum::<usize>()];
+        let tiles: usize = pieces.iter().map(|p| p.tile_count(side)).sum();
+        if let Some(wanted) = wanted
+            && wanted.len() != tiles
+        {
+            return Err(Error::Option(format!(
+                "{} tiles marked of a selection of {tiles}",
+                wanted.len()
+            )));
+        }
+        // Per tile of each box, where its corners start among the node's, and how many
+        // the node has.
+        let mut first_tile = 0;
+        let layouts: Vec<(Vec<Option<usize>>, usize)> = pieces
+            .iter()
+            .map(|piece| {
+                let mut values = 0;
+                let starts = (0..piece.tile_count(side))
+                    .map(|t| {
+                        wanted.is_none_or(|w| w[first_tile + t]).then(|| {
+                            let start = values;
+                            values += 4 * piece.tile_cells(side, t);
+                            start
+                        })
+                    })
+                    .collect();
+                first_tile += piece.tile_count(side);
+                (starts, values)
+            })
+            .collect();
+        let mut corners = vec![f32::NAN; layouts.iter().map(|l| l.1).sum()];
         let mut boxes = Vec::with_capacity(pieces.len());
         let mut rest = &mut corners[..];
-        for piece in &pieces {
-            let (this, next) = rest.split_at_mut(4 * piece.box_cells());
+        for (_, values) in &layouts {
+            let (this, next) = rest.split_at_mut(*values);
             boxes.push(this);
             rest = next;
         }
-        chosen
+        selection
             .par_iter()
             .zip(&pieces)
+            .zip(&layouts)
             .zip(boxes)
-            .try_for_each(|((&i, piece), out)| self.node_corners(i, piece, out))?;
+            .filter(|(_, out)| !out.is_empty())
+            .try_for_each(|(((&i, piece), (starts, _)), out)| {
+                self.node_corners(i, (piece, starts), out)
+            })?;
         Ok(Some(corners))
     }
 
@@ -1009,11 +1026,37 @@ impl LodFile {
     }
 
     /// [`LodFile::selection_corners`] of node `i`, whose box is `piece`, into `out`,
-    /// four per cell of the box.
-    fn node_corners(&self, i: u32, piece: &CoverPiece, out: &mut [f32]) -> Result<()> {
+    /// four per cell of each tile of the box that `starts` gives a place in `out`; the
+    /// leaves under the other tiles are not read.
+    fn node_corners(
+        &self,
+        i: u32,
+        (piece, starts): (&CoverPiece, &[Option<usize>]),
+        out: &mut [f32],
+    ) -> Result<()> {
+        let side = self.tile_cells().max(1);
+        let across = piece.tiles(side)[0];
+        // Does the box of node `m` hold a tile that `starts` places?
+        let wanted = |m: &NodeRecord| {
+            let [i0, j0, i1, j1] = m.cells;
+            let rel = |c: u32, o: i32| (i64::from(c) - i64::from(o)).max(0) as u64;
+            let lo = [rel(i0, piece.origin[0]), rel(j0, piece.origin[1])];
+            let hi = [rel(i1, piece.origin[0]), rel(j1, piece.origin[1])];
+            let side = u64::from(side);
+            (lo[1] / side..hi[1].div_ceil(side)).any(|ty| {
+                (lo[0] / side..hi[0].div_ceil(side).min(u64::from(across))).any(|tx| {
+                    starts
+                        .get((ty * u64::from(across) + tx) as usize)
+                        .is_some_and(Option::is_some)
+                })
+            })
+        };
         let mut stack = vec![i];
         while let Some(k) = stack.pop() {
             let m = self.node(k)?;
+            if !wanted(m) {
+                continue;
+            }
             if m.level > 0 {
                 for c in m.first_child..m.first_child.saturating_add(m.child_count) {
                     if self.node(c)?.level >= m.level {
@@ -1036,14 +1079,16 @@ impl LodFile {
                 };
                 let tri = [a, b, c];
                 let slot = cell_corners(tri.map(|v| v.texcoord))
-                    .and_then(|(cell, at)| Some((piece.slot(cell)?, at)));
-                let Some((slot, at)) = slot else {
+                    .and_then(|(cell, at)| Some((piece.tile_slot(side, cell)?, at)));
+                let Some(((tile, slot), at)) = slot else {
                     return Err(Error::Option(format!(
                         "node {k}: triangle {t} is not a half of a cell of node {i}"
                     )));
                 };
-                for (v, c) in tri.iter().zip(at) {
-                    out[4 * slot + c] = v.scalar;
+                if let Some(start) = starts[tile] {
+                    for (v, c) in tri.iter().zip(at) {
+                        out[start + 4 * slot + c] = v.scalar;
+                    }
                 }
             }
         }

@@ -337,7 +337,9 @@ fn file_round_trip_and_selection() {
 
     // The corners of those boxes' cells: the full-resolution surface's vertex scalars
     // at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever level the
-    // node is on; NaN where the layer has no face.
+    // node is on; NaN where the layer has no face. Each box comes in its leaves' tiles,
+    // tile after tile.
+    let side = file.tile_cells();
     let corners = file
         .selection_corners(&chosen, None)
         .unwrap()
@@ -345,21 +347,28 @@ fn file_round_trip_and_selection() {
     assert_eq!(corners.len(), 4 * values.len());
     let mut first = 0;
     let mut checked = 0;
+    let mut tiles = Vec::new();
     for (piece, &i) in cover.pieces.iter().zip(&chosen) {
         let n = &file.nodes()[i as usize];
         let layer = &file.layers()[n.layer as usize];
         let surface = stored_surface(&grid, layer, Some("PORO"));
+        let mut tile_starts = vec![0];
+        for t in 0..piece.tile_count(side) {
+            tile_starts.push(tile_starts[t] + 4 * piece.tile_cells(side, t));
+        }
         let mut want = vec![f32::NAN; 4 * piece.box_cells()];
         for f in &surface.cell_faces {
             let [a, b] = f.triangles.map(|t| surface.triangles[t as usize]);
-            let Some(slot) = piece.slot([f.cell[0] as i32, f.cell[1] as i32]) else {
+            let Some((tile, slot)) = piece.tile_slot(side, [f.cell[0] as i32, f.cell[1] as i32])
+            else {
                 continue;
             };
             for (c, v) in [a[0], a[1], a[2], b[2]].into_iter().enumerate() {
-                want[4 * slot + c] = surface.scalars[v as usize];
+                want[tile_starts[tile] + 4 * slot + c] = surface.scalars[v as usize];
             }
         }
-        let got = &corners[4 * first..4 * (first + piece.box_cells())];
+        let base = 4 * first;
+        let got = &corners[base..base + 4 * piece.box_cells()];
         for (k, (g, w)) in got.iter().zip(&want).enumerate() {
             assert_eq!(
                 g.to_bits(),
@@ -370,24 +379,26 @@ fn file_round_trip_and_selection() {
         }
         checked += want.iter().filter(|w| !w.is_nan()).count();
         first += piece.box_cells();
+        tiles.extend(tile_starts.windows(2).map(|w| base + w[0]..base + w[1]));
     }
     assert!(checked > 0);
     assert!(chosen.iter().any(|&i| file.nodes()[i as usize].level > 0));
-    // Only the marked nodes' corners, one after another, when a view wants only those.
-    let wanted: Vec<bool> = (0..chosen.len()).map(|k| k % 3 == 1).collect();
+    assert!(
+        cover.pieces.iter().any(|p| p.tile_count(side) > 1),
+        "a box of several tiles"
+    );
+    // Only the marked tiles' corners, one after another, when a view wants only those.
+    let wanted: Vec<bool> = (0..tiles.len()).map(|k| k % 3 == 1).collect();
     let some = file
         .selection_corners(&chosen, Some(&wanted))
         .unwrap()
         .expect("a property");
-    let mut first = 0;
-    let mut want = Vec::new();
-    for (piece, &w) in cover.pieces.iter().zip(&wanted) {
-        let cells = 4 * piece.box_cells();
-        if w {
-            want.extend_from_slice(&corners[first..first + cells]);
-        }
-        first += cells;
-    }
+    let want: Vec<f32> = tiles
+        .iter()
+        .zip(&wanted)
+        .filter(|(_, w)| **w)
+        .flat_map(|(range, _)| corners[range.clone()].to_vec())
+        .collect();
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert!(!want.is_empty() && bits(&some) == bits(&want));
     assert!(file.selection_corners(&chosen, Some(&wanted[1..])).is_err());

@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
+use strata_lod::CellCover;
 
 use crate::isoline::{IsolineOptions, IsolineTechnique, RangeAdjust};
 use crate::timing::{FrameTime, FrameTimer};
@@ -353,25 +354,26 @@ impl Renderer {
         Ok(values)
     }
 
-    /// Per piece below `piece_count`, whether `view` shows `mesh` from it at some pixel
-    /// centre, the mesh hiding itself (two-sided, the nearest surface wins); `pieces`
-    /// gives each vertex's piece. What is drawn with the mesh can only hide more.
-    /// `style` is the frame's, so that its textures stay as they are.
-    pub fn visible_pieces(
+    /// Per tile of `tile` cells of each piece's box of `cover` (strata-lod's
+    /// `CoverPiece::tiles`, row by row, piece after piece), whether `view` shows `mesh`
+    /// in it at some pixel centre, or takes a derivative there, the mesh hiding itself
+    /// (two-sided, the nearest surface wins); the cover's `vertex_piece` gives each
+    /// vertex's piece. What is drawn with the mesh can only hide more. `style` is the
+    /// frame's, so that its textures stay as they are.
+    pub fn visible_tiles(
         &mut self,
         mesh: &SurfaceMesh,
-        pieces: &[u32],
-        piece_count: usize,
+        (cover, tile): (&CellCover, u32),
         view: &View,
         style: &Style,
     ) -> Result<Vec<bool>> {
         self.set_frame(view, style)?;
         validated(&self.gpu, || {
-            crate::visibility::visible_pieces(
+            crate::visibility::visible_tiles(
                 &self.gpu,
                 &self.frame_layout,
                 &self.bind_group,
-                (mesh, pieces, piece_count),
+                (mesh, cover, tile),
                 (view.width, view.height),
             )
         })
@@ -688,15 +690,15 @@ fn upload_colormap(gpu: &Gpu, colormap: Colormap) -> wgpu::TextureView {
     texture.create_view(&Default::default())
 }
 
-/// A buffer to read back a `width` x `height` texture of 4-byte texels, and its row
-/// pitch in bytes (rows padded to the copy alignment).
+/// A buffer to read back a `width` x `height` texture of `texel_bytes`-byte texels, and
+/// its row pitch in bytes (rows padded to the copy alignment).
 pub(crate) fn readback_buffer(
     gpu: &Gpu,
     label: &str,
-    width: u32,
-    height: u32,
+    (width, height): (u32, u32),
+    texel_bytes: u32,
 ) -> (wgpu::Buffer, u32) {
-    let padded_row = (4 * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+    let padded_row = (texel_bytes * width).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
         * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -744,7 +746,7 @@ fn make_targets(gpu: &Gpu, width: u32, height: u32) -> Targets {
         DEPTH_FORMAT,
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
     );
-    let (readback, padded_row) = readback_buffer(gpu, "readback", width, height);
+    let (readback, padded_row) = readback_buffer(gpu, "readback", (width, height), 4);
     Targets {
         width,
         height,

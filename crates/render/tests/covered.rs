@@ -11,7 +11,7 @@ mod support;
 use strata_grid::{Face, SurfaceMesh, layer_surface};
 use strata_lod::{BuildOptions, CellCover, LodFile, Options, build_file, decimate};
 use strata_render::glam::Vec3;
-use strata_render::{Camera, CellDraw, Coverage, Style, View, WireMode};
+use strata_render::{Camera, CellDraw, Corners, Coverage, Style, View, WireMode};
 use support::*;
 
 const SIZE: u32 = 400;
@@ -399,54 +399,233 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
     assert!(err.to_string().contains("3 cell values"), "{err}");
 }
 
-/// Three pieces stacked: 0 the square [-1, 1]² at z = 1, 1 the same at z = 0, and 2 a
-/// strip over x in [0.5, 1.5] at z = 0.5, which only sticks out beside the squares.
-/// Piece 3 has no triangle.
+/// Three pieces stacked: 0 the square [-1, 1]² of 4 x 4 cells at z = 1, 1 the same at
+/// z = 0, and 2 a strip of 8 x 4 cells over x in [0.6, 1.6] at z = 0.5, which sticks out
+/// beside the squares from x = 1.1 (seen from above) or 1.08 (from below). In tiles of
+/// 2 x 2 cells the strip's first column, x up to 0.85, stays hidden; the second, up to
+/// 1.1, is hidden from above too, but the visible pixels beside it take derivatives
+/// across it.
 #[test]
-fn visible_pieces_are_the_nearest_at_some_pixel_and_only_those() {
+fn visible_tiles_are_those_the_nearest_surface_shows_and_only_those() {
     let mut r = renderer();
-    let plane = |x0: f32, x1: f32, z: f32| {
-        SurfaceMesh::structured(4, 4, |i, j| {
-            [x0 + (x1 - x0) * i as f32 / 4.0, -1.0 + 0.5 * j as f32, z]
+    let plane = |(x0, x1): (f32, f32), across: usize, z: f32| {
+        SurfaceMesh::structured(across, 4, |i, j| {
+            [
+                x0 + (x1 - x0) * i as f32 / across as f32,
+                -1.0 + 0.5 * j as f32,
+                z,
+            ]
         })
     };
     let mut mesh = SurfaceMesh::with_origin([0.0; 3]);
-    let mut pieces = Vec::new();
-    for (piece, part) in [
-        plane(-1.0, 1.0, 1.0),
-        plane(-1.0, 1.0, 0.0),
-        plane(0.5, 1.5, 0.5),
-    ]
-    .iter()
-    .enumerate()
-    {
-        mesh.append(part);
-        pieces.resize(mesh.vertex_count(), piece as u32);
+    for part in [
+        plane((-1.0, 1.0), 4, 1.0),
+        plane((-1.0, 1.0), 4, 0.0),
+        plane((0.6, 1.6), 8, 0.5),
+    ] {
+        mesh.append(&part);
     }
+    let cover = CellCover::of(&mesh).expect("cells");
+    assert_eq!(cover.pieces.len(), 3);
     let view = |z: f32| View {
         camera: Camera::look_at(Vec3::new(0.0, 0.0, z), Vec3::ZERO, Vec3::Y),
         width: 200,
         height: 200,
-        bounds: (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.5, 1.0, 1.0)),
+        bounds: (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.6, 1.0, 1.0)),
     };
     let style = Style::default();
+    let strip = [false, true, true, true, false, true, true, true];
     let above = r
-        .visible_pieces(&mesh, &pieces, 4, &view(6.0), &style)
-        .expect("visible pieces");
-    assert_eq!(above, [true, false, true, false], "from above");
+        .visible_tiles(&mesh, (&cover, 2), &view(6.0), &style)
+        .expect("visible tiles");
+    assert_eq!(above[..4], [true; 4], "the top square from above");
+    assert_eq!(above[4..8], [false; 4], "the bottom square from above");
+    assert_eq!(above[8..], strip, "the strip from above");
     let below = r
-        .visible_pieces(&mesh, &pieces, 4, &view(-6.0), &style)
-        .expect("visible pieces");
-    assert_eq!(below, [false, true, true, false], "from below");
+        .visible_tiles(&mesh, (&cover, 2), &view(-6.0), &style)
+        .expect("visible tiles");
+    assert_eq!(below[..8], [[false; 4], [true; 4]].concat(), "from below");
+    assert_eq!(below[8..], strip, "the strip from below");
+    // Tiles as large as the boxes: a flag per piece.
+    let pieces = r
+        .visible_tiles(&mesh, (&cover, u32::MAX), &view(6.0), &style)
+        .expect("visible tiles");
+    assert_eq!(pieces, [true, false, true]);
+
+    let mut short = cover.clone();
+    short.vertex_piece.pop();
     assert!(
-        r.visible_pieces(&mesh, &pieces[1..], 4, &view(6.0), &style)
+        r.visible_tiles(&mesh, (&short, 2), &view(6.0), &style)
             .is_err(),
         "a piece list that does not match the vertices is refused"
     );
-    let mut bad = pieces.clone();
-    bad[0] = 4;
+    let mut fewer = cover.clone();
+    fewer.pieces.pop();
     assert!(
-        r.visible_pieces(&mesh, &bad, 4, &view(6.0), &style)
-            .is_err()
+        r.visible_tiles(&mesh, (&fewer, 2), &view(6.0), &style)
+            .is_err(),
+        "a vertex of a piece the cover does not have is refused"
+    );
+}
+
+/// A stack of four layers of 48 x 48 cells of 10 m on a dome, their porosity rising
+/// across the map and down the stack, in a hierarchy of 8-cell tiles.
+fn dome_hierarchy(dir: &std::path::Path) -> LodFile {
+    let (n, nz) = (48, 4);
+    let coord: Vec<f64> = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
+            let (x, y) = (10.0 * i as f64, 10.0 * j as f64);
+            [x, y, 1000.0, x, y, 1100.0]
+        })
+        .collect();
+    let dome = |i: usize, j: usize| {
+        let (x, y) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
+        1000.0 + 20.0 * (x * x + y * y)
+    };
+    let zcorn: Vec<f32> = (0..nz)
+        .flat_map(|k| [k, k + 1])
+        .flat_map(|level| {
+            (0..n).flat_map(move |j| {
+                (0..2).flat_map(move |dj| {
+                    (0..n).flat_map(move |i| {
+                        (0..2).map(move |di| dome(i + di, j + dj) + 4.0 * level as f32)
+                    })
+                })
+            })
+        })
+        .collect();
+    let dims = strata_grid::Dims { nx: n, ny: n, nz };
+    let mut grid =
+        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a dome");
+    grid.set_property(
+        "PORO",
+        strata_grid::ndarray::Array3::from_shape_fn((nz, n, n), |(k, j, i)| {
+            0.1 + 0.004 * i as f32 + 0.002 * j as f32 + 0.01 * k as f32
+        }),
+    )
+    .expect("PORO");
+    let path = dir.join("dome.lod");
+    let options = BuildOptions {
+        tile_cells: 8,
+        ..BuildOptions::default()
+    };
+    build_file(&grid, Some("PORO"), &path, &options).expect("build");
+    LodFile::open(&path).expect("open")
+}
+
+/// Seen obliquely, a stack shows its top surface and the others' edges: the isolines
+/// drawn from the corners of the tiles the view shows are those drawn from all of them.
+#[test]
+fn isolines_from_the_tiles_a_view_shows_are_those_from_all_tiles() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let file = dome_hierarchy(dir.path());
+    let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
+    let mesh = file.selection_mesh(&roots).expect("selection");
+    let (cover, values) = file
+        .selection_cells(&roots)
+        .expect("cells")
+        .expect("a property");
+    let (lo, hi) = mesh.bounds().expect("bounds");
+    let view = View {
+        camera: Camera::fit_points(
+            mesh.positions.iter().map(|&p| Vec3::from(p)),
+            5.0,
+            4.0 / 3.0,
+            (30.0, 25.0),
+            1.0,
+        ),
+        width: 400,
+        height: 300,
+        bounds: (Vec3::from(lo), Vec3::from(hi)),
+    };
+    let plain = Style {
+        scalar_range: Some((0.1, 0.25)),
+        ..Style::default()
+    };
+    let style = Style {
+        isolines: Some(strata_render::Isolines::new(0.01)),
+        ..plain
+    };
+    let mut r = renderer();
+    let tile = file.tile_cells();
+    let shown = r
+        .visible_tiles(&mesh, (&cover, tile), &view, &style)
+        .expect("visible tiles");
+    let all = file
+        .selection_corners(&roots, None)
+        .expect("corners")
+        .expect("a property");
+    let some = file
+        .selection_corners(&roots, Some(&shown))
+        .expect("corners")
+        .expect("a property");
+    let mut frame = |corners: Option<Corners>, style: &Style| {
+        let cells = CellDraw {
+            pieces: &cover.vertex_piece,
+            cover: &cover,
+            values: Some(&values),
+            corners,
+            mask: false,
+            wire: true,
+        };
+        shaded(&mut r, &mesh, Some(cells), &view, style)
+    };
+    let from_all = frame(
+        Some(Corners {
+            values: &all,
+            tile,
+            of: None,
+        }),
+        &style,
+    );
+    let from_shown = frame(
+        Some(Corners {
+            values: &some,
+            tile,
+            of: Some(&shown),
+        }),
+        &style,
+    );
+    let without = frame(None, &plain);
+    let differing = |a: &strata_render::image::RgbaImage, b: &strata_render::image::RgbaImage| {
+        a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count()
+    };
+    let marked = shown.iter().filter(|&&s| s).count();
+    let isoline_pixels = differing(&from_all, &without);
+    eprintln!(
+        "{marked} of {} tiles shown on {}; {isoline_pixels} pixels of isolines",
+        shown.len(),
+        backend(&r)
+    );
+    // Five surfaces (four tops and the bottom) of 6 x 6 tiles: the top's and the
+    // others' edges. The lower ones' middles, two tiles in from their edges, are hidden.
+    assert_eq!(shown.len(), 5 * 36);
+    let middle = |t: usize| (2..4).contains(&(t % 6)) && (2..4).contains(&(t % 36 / 6));
+    for s in 0..5 {
+        let rows: Vec<String> = shown[36 * s..36 * (s + 1)]
+            .chunks(6)
+            .map(|r| r.iter().map(|&v| if v { '#' } else { '.' }).collect())
+            .collect();
+        eprintln!("surface {s}: {}", rows.join(" "));
+    }
+    assert!(
+        shown[..36].iter().all(|&s| s),
+        "the top surface is shown whole"
+    );
+    for s in 1..5 {
+        let tiles = &shown[36 * s..36 * (s + 1)];
+        assert!(tiles.iter().any(|&v| v), "surface {s}: no edge shown");
+        assert!(
+            !tiles.iter().enumerate().any(|(t, &v)| v && middle(t)),
+            "surface {s}: its hidden middle is shown"
+        );
+    }
+    assert!(marked < shown.len() / 2, "{marked} tiles shown");
+    assert!(isoline_pixels > 1000, "isolines are drawn");
+    assert_eq!(
+        differing(&from_all, &from_shown),
+        0,
+        "the tiles the view shows draw otherwise than all tiles"
     );
 }

@@ -380,7 +380,7 @@ pub struct CellTechnique {
 const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
 
 /// Words per piece at the front of the cover texture (see texture.wgsl).
-const COVER_HEADER: usize = 7;
+const COVER_HEADER: usize = 8;
 
 /// The header word of a piece without values (`NO_VALUES` in texture.wgsl).
 const NO_VALUES: u32 = u32::MAX;
@@ -411,24 +411,50 @@ pub struct CellDraw<'a> {
     pub wire: bool,
 }
 
-/// The field at the corners of the cells of the pieces of a cell cover: four values
-/// per cell of each piece's box (as strata-lod's `CellCover::corner_values` orders
-/// them), one piece after another, for the pieces that `of` marks (all without it).
+/// The field at the corners of the cells of the pieces of a cell cover, four values
+/// per cell (as strata-lod's `CellCover::corner_values` orders a cell's), for the
+/// tiles of each piece's box that `of` marks (all without it). Each box is cut into
+/// squares of `tile` cells from its origin (strata-lod's `CoverPiece::tiles`); the
+/// values come tile after tile, each tile's cells row by row, piece after piece. A
+/// piece's fragments in a tile without values follow the vertex scalars: a view that
+/// shows a few tiles of a large piece needs only theirs.
 #[derive(Clone, Copy, Debug)]
 pub struct Corners<'a> {
     pub values: &'a [f32],
+    /// Side of the tiles in cells; `u32::MAX` for one tile per box.
+    pub tile: u32,
+    /// Per tile of each box (row by row, piece after piece), whether `values` hold it.
     pub of: Option<&'a [bool]>,
 }
 
 impl<'a> Corners<'a> {
-    /// The corners of every piece.
+    /// The corners of every cell of every piece, box after box (as
+    /// `CellCover::corner_values` gives them).
     pub fn all(values: &'a [f32]) -> Self {
-        Corners { values, of: None }
+        Corners {
+            values,
+            tile: u32::MAX,
+            of: None,
+        }
     }
 
-    /// Whether piece `p` has its corners here.
-    fn has(&self, p: usize) -> bool {
-        self.of.is_none_or(|of| of[p])
+    /// Per piece, its tiles among those `of` marks and how many values its marked ones
+    /// hold.
+    fn layout(&self, pieces: &[CoverPiece]) -> Vec<(Range<usize>, usize)> {
+        let mut next = 0;
+        pieces
+            .iter()
+            .map(|p| {
+                let tiles = next..next + p.tile_count(self.tile);
+                next = tiles.end;
+                let values = tiles
+                    .clone()
+                    .filter(|&t| self.of.is_none_or(|of| of.get(t) == Some(&true)))
+                    .map(|t| 4 * p.tile_cells(self.tile, t - tiles.start))
+                    .sum();
+                (tiles, values)
+            })
+            .collect()
     }
 }
 
@@ -538,11 +564,11 @@ impl CellTechnique {
         let device = &gpu.device;
         let mut batches = Vec::new();
         let mut texels_bytes = 0;
-        for (((batch, cells), corner_range), triangles) in plan
+        for (((batch, cells), (corner_range, tiles)), triangles) in plan
             .batches
             .iter()
             .zip(&plan.batch_cells)
-            .zip(&plan.batch_corners)
+            .zip(plan.batch_corners.iter().zip(&plan.batch_tiles))
             .zip(&plan.triangle_ranges)
         {
             if triangles.is_empty() {
@@ -554,7 +580,8 @@ impl CellTechnique {
                 values.map(|v| &v[cells.clone()]),
                 corners.map(|c| Corners {
                     values: &c.values[corner_range.clone()],
-                    of: c.of.map(|of| &of[batch.clone()]),
+                    of: c.of.map(|of| &of[tiles.clone()]),
+                    ..c
                 }),
             )?;
             let rows = texels.len().div_ceil(width).max(1);
@@ -638,6 +665,8 @@ struct CoverPlan {
     batch_cells: Vec<Range<usize>>,
     /// Per batch, its pieces' corner values among all of them.
     batch_corners: Vec<Range<usize>>,
+    /// Per batch, its pieces' corner tiles among all of them.
+    batch_tiles: Vec<Range<usize>>,
     triangles: Vec<[u32; 3]>,
     /// Per batch, its triangles in `triangles`.
     triangle_ranges: Vec<Range<u32>>,
@@ -661,45 +690,42 @@ impl CoverPlan {
                 values.len()
             )));
         }
+        // Per piece, its corner tiles and the values of the marked ones.
+        let layout = corners.map_or_else(
+            || vec![(0..0, 0); cover.pieces.len()],
+            |c| c.layout(&cover.pieces),
+        );
+        let tile_count = layout.last().map_or(0, |(tiles, _)| tiles.end);
         if let Some(of) = corners.and_then(|c| c.of)
-            && of.len() != cover.pieces.len()
+            && of.len() != tile_count
         {
             return Err(Error::Invalid(format!(
-                "corners marked for {} pieces of a cover of {}",
-                of.len(),
-                cover.pieces.len()
+                "corners marked for {} tiles of a cover of {tile_count}",
+                of.len()
             )));
         }
-        // Corner values of each piece: four per cell of its box where it has them.
-        let piece_corners = |i: usize, p: &CoverPiece| {
-            corners.map_or(0, |c| if c.has(i) { 4 * p.box_cells() } else { 0 })
-        };
-        let corner_count: usize = cover
-            .pieces
-            .iter()
-            .enumerate()
-            .map(|(i, p)| piece_corners(i, p))
-            .sum();
+        let corner_count: usize = layout.iter().map(|(_, values)| values).sum();
         if let Some(corners) = corners
             && corners.values.len() != corner_count
         {
             return Err(Error::Invalid(format!(
-                "{} corner values for {corner_count} (four per cell of the pieces that have them)",
+                "{} corner values for {corner_count} (four per cell of the tiles that have them)",
                 corners.values.len()
             )));
         }
         let mut batches: Vec<Range<usize>> = Vec::new();
         let mut batch_cells: Vec<Range<usize>> = Vec::new();
         let mut batch_corners: Vec<Range<usize>> = Vec::new();
+        let mut batch_tiles: Vec<Range<usize>> = Vec::new();
         let mut batch_of_piece = Vec::with_capacity(cover.pieces.len());
         let mut words = 1;
         let mut cells = 0;
         let mut corner_end = 0;
-        for (i, p) in cover.pieces.iter().enumerate() {
+        for (i, (p, (tiles, corner_values))) in cover.pieces.iter().zip(&layout).enumerate() {
             let w = COVER_HEADER
                 + p.bits.len()
                 + values.map_or(0, |_| p.box_cells())
-                + piece_corners(i, p);
+                + corner_words(tiles, *corner_values);
             if 1 + w > capacity {
                 return Err(Error::Invalid(format!(
                     "piece {i} of the cell cover takes {w} words, more than this adapter's \
@@ -708,23 +734,26 @@ impl CoverPlan {
             }
             let box_cells = cells..cells + p.box_cells();
             cells = box_cells.end;
-            let box_corners = corner_end..corner_end + piece_corners(i, p);
+            let box_corners = corner_end..corner_end + corner_values;
             corner_end = box_corners.end;
             match (
                 batches.last_mut(),
                 batch_cells.last_mut(),
                 batch_corners.last_mut(),
+                batch_tiles.last_mut(),
             ) {
-                (Some(b), Some(c), Some(k)) if words + w <= capacity => {
+                (Some(b), Some(c), Some(k), Some(t)) if words + w <= capacity => {
                     b.end = i + 1;
                     c.end = box_cells.end;
                     k.end = box_corners.end;
+                    t.end = tiles.end;
                     words += w;
                 }
                 _ => {
                     batches.push(i..i + 1);
                     batch_cells.push(box_cells);
                     batch_corners.push(box_corners);
+                    batch_tiles.push(tiles.clone());
                     words = 1 + w;
                 }
             }
@@ -750,26 +779,39 @@ impl CoverPlan {
             batches,
             batch_cells,
             batch_corners,
+            batch_tiles,
             triangles,
         })
     }
 }
 
+/// Words of a piece's corners, its `tiles` and the `values` of the marked ones: a table
+/// of its tiles and the values, where it has any.
+fn corner_words(tiles: &Range<usize>, values: usize) -> usize {
+    if values > 0 { tiles.len() + values } else { 0 }
+}
+
 /// The words of a batch of `pieces`, the first of which is piece `first_piece` of the
 /// cover, of their `values` (one per cell of each piece's box, see
-/// `CellCover::values`) and of their `corners` (four per cell, see
-/// `CellCover::corner_values`) when given, as `covered_cell`, `cell_scalar` and
-/// `cell_iso` in texture.wgsl read them.
+/// `CellCover::values`) and of their `corners` when given, as `covered_cell`,
+/// `cell_scalar` and `cell_iso` in texture.wgsl read them.
 fn cover_words(
     pieces: &[CoverPiece],
     first_piece: usize,
     values: Option<&[f32]>,
     corners: Option<Corners>,
 ) -> Result<Vec<u32>> {
+    let layout = corners.map_or_else(Vec::new, |c| c.layout(pieces));
     let bit_words: usize = pieces.iter().map(|p| p.bits.len()).sum();
     let header = 1 + COVER_HEADER * pieces.len();
     let value_words = values.map_or(0, <[f32]>::len);
-    let total = header + bit_words + value_words + corners.map_or(0, |c| c.values.len());
+    let table_words: usize = layout
+        .iter()
+        .filter(|(_, v)| *v > 0)
+        .map(|(t, _)| t.len())
+        .sum();
+    let corner_values = corners.map_or(0, |c| c.values.len());
+    let total = header + bit_words + value_words + table_words + corner_values;
     let word = |offset: usize| {
         u32::try_from(offset)
             .ok()
@@ -780,9 +822,9 @@ fn cover_words(
     words.push(word(first_piece)?);
     let mut bits = header;
     let mut first_value = bits + bit_words;
-    let mut first_corner = first_value + value_words;
+    let mut table = first_value + value_words;
     for (i, p) in pieces.iter().enumerate() {
-        let has_corners = corners.is_some_and(|c| c.has(i));
+        let corners = corners.zip(layout.get(i)).filter(|(_, (_, v))| *v > 0);
         words.extend([
             p.origin[0] as u32,
             p.origin[1] as u32,
@@ -793,16 +835,16 @@ fn cover_words(
                 Some(_) => word(first_value)?,
                 None => NO_VALUES,
             },
-            if has_corners {
-                word(first_corner)?
-            } else {
-                NO_VALUES
+            match corners {
+                Some(_) => word(table)?,
+                None => NO_VALUES,
             },
+            corners.map_or(u32::MAX, |(c, _)| c.tile),
         ]);
         bits += p.bits.len();
         first_value += p.box_cells();
-        if has_corners {
-            first_corner += 4 * p.box_cells();
+        if let Some((_, (tiles, _))) = corners {
+            table += tiles.len();
         }
     }
     for p in pieces {
@@ -816,7 +858,23 @@ fn cover_words(
         }
     };
     words.extend(values.into_iter().flatten().map(scalar_bits));
-    words.extend(corners.into_iter().flat_map(|c| c.values).map(scalar_bits));
+    if let Some(c) = corners {
+        let mut first_corner = table;
+        for (p, (tiles, values)) in pieces.iter().zip(&layout) {
+            if *values == 0 {
+                continue;
+            }
+            for t in tiles.clone() {
+                if c.of.is_none_or(|of| of[t]) {
+                    words.push(word(first_corner)?);
+                    first_corner += 4 * p.tile_cells(c.tile, t - tiles.start);
+                } else {
+                    words.push(NO_VALUES);
+                }
+            }
+        }
+        words.extend(c.values.iter().map(scalar_bits));
+    }
     Ok(words)
 }
 
@@ -905,7 +963,8 @@ mod tests {
             ..mesh.clone()
         };
         let corners = cover.corner_values(&field).expect("corner values");
-        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 5 * 36;
+        // Header, bits, values, a one-tile table and the corners.
+        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 36 + 1 + 4 * 36;
         let mut r = Renderer::headless().expect("renderer");
         let technique = CellTechnique::new(&r.context(), false, true);
         let draw = |values, corners| CellDraw {
@@ -950,28 +1009,48 @@ mod tests {
         let all = draw(Some(&values), Some(Corners::all(&corners)));
         let (one, whole) = frame(all, 1 << 20, &with_isolines);
         let (nine, batched) = frame(all, 1 + piece_words, &with_isolines);
-        // Corners for every other piece only: the others' isolines follow the vertex
-        // scalars, and batches still cut the values where the pieces have them.
-        let marked: Vec<bool> = (0..cover.pieces.len()).map(|p| p % 2 == 0).collect();
-        let some: Vec<f32> = cover
-            .pieces
-            .iter()
-            .zip(&marked)
-            .scan(0, |start, (p, &m)| {
-                let range = *start..*start + 4 * p.box_cells();
-                *start = range.end;
-                Some(if m {
-                    corners[range].to_vec()
-                } else {
-                    Vec::new()
-                })
-            })
-            .flatten()
+        // The same corners in tiles of 4 x 4 cells (four per 6 x 6 block, clipped),
+        // all of them or every other one: the fragments in the others follow the
+        // vertex scalars, and batches still cut the values where the tiles have them.
+        let side = 4;
+        let tile_values = |p: usize, t: usize| {
+            let piece = &cover.pieces[p];
+            let first: usize = cover.pieces[..p].iter().map(CoverPiece::box_cells).sum();
+            let [x0, y0, x1, y1] = piece.tile_box(side, t);
+            (y0..y1)
+                .flat_map(|y| (x0..x1).map(move |x| (y * piece.size[0] + x) as usize))
+                .flat_map(|slot| corners[4 * (first + slot)..4 * (first + slot + 1)].to_vec())
+                .collect::<Vec<f32>>()
+        };
+        let tiles: Vec<(usize, usize)> = (0..cover.pieces.len())
+            .flat_map(|p| (0..cover.pieces[p].tile_count(side)).map(move |t| (p, t)))
             .collect();
+        assert_eq!(tiles.len(), 36);
+        let marked: Vec<bool> = (0..tiles.len()).map(|t| t % 2 == 0).collect();
+        let pick = |marks: &[bool]| -> Vec<f32> {
+            tiles
+                .iter()
+                .zip(marks)
+                .filter(|(_, m)| **m)
+                .flat_map(|(&(p, t), _)| tile_values(p, t))
+                .collect()
+        };
+        let every = pick(&vec![true; tiles.len()]);
+        let some = pick(&marked);
+        let tiled = draw(
+            Some(&values),
+            Some(Corners {
+                values: &every,
+                tile: side,
+                of: None,
+            }),
+        );
+        let (_, tiled_whole) = frame(tiled, 1 << 20, &with_isolines);
         let partial = draw(
             Some(&values),
             Some(Corners {
                 values: &some,
+                tile: side,
                 of: Some(&marked),
             }),
         );
@@ -985,13 +1064,18 @@ mod tests {
         };
         assert_eq!(differing(&whole, &batched), 0, "batches change the frame");
         assert_eq!(
+            differing(&whole, &tiled_whole),
+            0,
+            "the corners in tiles draw what they draw in boxes"
+        );
+        assert_eq!(
             differing(&partial_whole, &partial_batched),
             0,
             "batches change the frame with corners for some pieces"
         );
         assert!(
             differing(&whole, &partial_whole) > 240 * 240 / 200,
-            "pieces without corners draw the vertex scalars' isolines"
+            "tiles without corners draw the vertex scalars' isolines"
         );
         assert!(
             differing(&whole, &no_isolines) > 240 * 240 / 50,
@@ -1015,12 +1099,20 @@ mod tests {
             "corner values of another cover are refused"
         );
         let wrong = Corners {
-            values: &some,
             of: Some(&marked[1..]),
+            ..Corners::all(&some)
         };
         assert!(
             CoverPlan::new(&mesh, &draw(None, Some(wrong)), 1 << 20).is_err(),
-            "marks for another number of pieces are refused"
+            "marks for another number of tiles are refused"
+        );
+        let short = Corners {
+            values: &every[4..],
+            ..tiled.corners.expect("corners")
+        };
+        assert!(
+            CoverPlan::new(&mesh, &draw(None, Some(short)), 1 << 20).is_err(),
+            "too few corner values for the tiles are refused"
         );
     }
 }

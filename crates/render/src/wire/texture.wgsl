@@ -67,12 +67,15 @@ fn uv_colour(in: UvOut, colour_scalar: f32, iso: f32, wire: bool) -> vec4<f32> {
 }
 
 // Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover),
-// for a batch of consecutive pieces: the batch's first piece, then seven words per
+// for a batch of consecutive pieces: the batch's first piece, then eight words per
 // piece (first cell x and y as i32, cells across and down, index of its first bit word,
-// index of its first value word or NO_VALUES, index of its first corner word or
-// NO_VALUES), then the bits, then the values (f32 bits), then the corner values (four
-// f32 per cell: the field at the cell's corners (0, 0), (1, 0), (1, 1), (0, 1)), each
-// a row of cells after another, in a texture read as a flat array.
+// index of its first value word or NO_VALUES, index of its corner tile table or
+// NO_VALUES, side in cells of the square tiles its box is cut into from its first
+// cell), then the bits, then the values (f32 bits), then the corner tile tables (per
+// tile of the box, row by row, the index of its first corner word or NO_VALUES), then
+// the corner values (four f32 per cell of each tile that has them: the field at the
+// cell's corners (0, 0), (1, 0), (1, 1), (0, 1)), each a row of cells after another,
+// in a texture read as a flat array.
 @group(1) @binding(4) var cover_words: texture_2d<u32>;
 
 const NO_VALUES: u32 = 0xffffffffu;
@@ -91,9 +94,9 @@ fn cover_word(i: u32) -> u32 {
     return textureLoad(cover_words, vec2<u32>(i % w, i / w), 0).x;
 }
 
-// Where `piece`'s seven header words start.
+// Where `piece`'s eight header words start.
 fn piece_header(piece: u32) -> u32 {
-    return 1u + 7u * (piece - cover_word(0u));
+    return 1u + 8u * (piece - cover_word(0u));
 }
 
 // The place in `piece`'s box of the cell of global coordinates `uv` (node (i, j) at
@@ -126,17 +129,29 @@ fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
 // The isoline coordinate at global coordinates `uv` in `cell` of `piece`: the
 // original's field, linear on each half of the cell face split along its (0, 0)-(1, 1)
 // diagonal as the original's triangles are, undefined outside its cells; the
-// interpolated coordinate where the piece has no corner values. The corners go
-// through iso_coordinate before the interpolation, as vertices do (line_coordinate).
+// interpolated coordinate where the piece, or the cell's tile of its box, has no corner
+// values. The corners go through iso_coordinate before the interpolation, as vertices
+// do (line_coordinate).
 fn cell_iso(piece: u32, cell: i32, uv: vec2<f32>, interpolated: f32) -> f32 {
-    let first = cover_word(piece_header(piece) + 6u);
-    if first == NO_VALUES {
+    let h = piece_header(piece);
+    let table = cover_word(h + 6u);
+    if table == NO_VALUES {
         return interpolated;
     }
     if cell < 0 {
         return ISO_UNDEFINED;
     }
-    let c = first + 4u * u32(cell);
+    let size = vec2<u32>(cover_word(h + 2u), cover_word(h + 3u));
+    let side = cover_word(h + 7u);
+    let at = vec2<u32>(u32(cell) % size.x, u32(cell) / size.x);
+    let tile = at / side;
+    let first = cover_word(table + tile.y * ((size.x - 1u) / side + 1u) + tile.x);
+    if first == NO_VALUES {
+        return interpolated;
+    }
+    let lo = tile * side;
+    let across = min(side, size.x - lo.x);
+    let c = first + 4u * ((at.y - lo.y) * across + at.x - lo.x);
     let f = vec4<f32>(
         bitcast<f32>(cover_word(c)),
         bitcast<f32>(cover_word(c + 1u)),
