@@ -415,13 +415,14 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     };
     let (full, finest) = isolines("0.1");
     let (coarse, coarsest) = isolines("30");
-    // From above the top layer hides most of the others: the field is read only under
-    // the tiles the view shows, and the lines are still all there (F1 below).
+    // From above the top layer hides most of the others: the cells and the field are
+    // read only for the tiles the view shows, and the lines are still all there (F1
+    // below).
     for printed in [&full, &coarse] {
         let count = |after: &str| word_after(printed, after).and_then(|w| w.parse::<usize>().ok());
-        let shown = count("leaves under the ");
+        let shown = count("cells read for the ");
         let tiles = printed
-            .split_once("leaves under the ")
+            .split_once("cells read for the ")
             .and_then(|(_, rest)| word_after(rest, " of "))
             .and_then(|w| w.parse::<usize>().ok());
         eprintln!("{shown:?} of {tiles:?} tiles shown");

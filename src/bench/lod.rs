@@ -57,7 +57,7 @@ use strata_lod::baseline::{Simplifier, simplify};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
 use strata_lod::{CellCover, Decimated, Maker, Options, Placement, decimate, decimate_chosen};
 use strata_render::glam::Vec3;
-use strata_render::{Camera, CellDraw, Renderer, Style, View, WireMode};
+use strata_render::{Camera, CellDraw, Renderer, Style, TiledCells, View, WireMode};
 
 const WIDTH: u32 = 1000;
 const HEIGHT: u32 = 800;
@@ -690,7 +690,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
                     let cells = CellDraw {
                         pieces: &pieces,
                         cover: &cover,
-                        values: values.as_deref(),
+                        values: values.as_deref().map(TiledCells::boxes),
                         corners: None,
                         mask: matches!(method, Method::OursCover),
                         wire: true,

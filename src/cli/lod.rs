@@ -13,7 +13,7 @@ use strata::lod::{
 use strata::render::glam::Vec3;
 use strata::render::wire::Drawable;
 use strata::render::{
-    Camera, CellDraw, Corners, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
+    Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Style, TiledCells, View, WireMode,
 };
 use strata::scene::{colour_range, corner_field};
 
@@ -78,8 +78,8 @@ pub struct ViewArgs {
     /// Isolines of the stored property: [SPACING[:MAJOR_EVERY]] (about ten lines over
     /// its range when no spacing is given; every fifth line major). On whatever level is
     /// chosen they are the model's, evaluated from the full-resolution tiles under the
-    /// chosen nodes, which this reads only for the tiles the view shows, found by a
-    /// first pass (--wire global or none).
+    /// chosen nodes, which this reads only for the tiles the view shows (as the cells'
+    /// values), found by a first pass (--wire global or none).
     #[arg(long, value_name = "SPACING[:MAJOR_EVERY]", num_args = 0..=1, default_missing_value = "", value_parser = parse_iso_spacing)]
     iso: Option<IsoSpacing>,
     #[command(flatten)]
@@ -268,8 +268,8 @@ fn view(args: &ViewArgs) -> Result<()> {
     };
     let mesh = file.selection_mesh(&chosen)?;
     let mut renderer = Renderer::headless()?;
-    let cells = if by_cells {
-        file.selection_cells(&chosen)?
+    let cover = if by_cells {
+        file.selection_cover(&chosen)?
     } else {
         None
     };
@@ -287,35 +287,40 @@ fn view(args: &ViewArgs) -> Result<()> {
             [mesh.origin[0], mesh.origin[1]],
         )?
     };
-    // The isolines' field is read from the leaves under the part of each node the view
-    // shows, tile by tile: from above, one layer of the stack; obliquely, the top and
-    // the others' edges.
+    // The cells' values, and the isolines' field from the leaves under them, are read
+    // for the part of each node the view shows, tile by tile: from above, one layer of
+    // the stack; obliquely, the top and the others' edges.
     let tile = file.tile_cells();
-    let shown = match (isolines, &cells) {
-        (Some(_), Some((cover, _))) => Some(
+    let shown = match &cover {
+        Some(cover) => Some(
             renderer
                 .visible_tiles(&mesh, (cover, tile), &view, &style)
                 .context("finding the tiles the view shows")?,
         ),
-        _ => None,
-    };
-    let corners = match isolines {
-        Some(_) => file.selection_corners(&chosen, shown.as_deref())?,
         None => None,
     };
-    let drawable = match &cells {
-        Some((cover, values)) => renderer
+    let values = match &cover {
+        Some(_) => file.selection_values(&chosen, shown.as_deref())?,
+        None => None,
+    };
+    let corners = match (isolines, &cover) {
+        (Some(_), Some(_)) => file.selection_corners(&chosen, shown.as_deref())?,
+        _ => None,
+    };
+    let tiled = |values| TiledCells {
+        values,
+        tile,
+        of: shown.as_deref(),
+    };
+    let drawable = match &cover {
+        Some(cover) => renderer
             .prepare_cells(
                 &mesh,
                 &CellDraw {
                     pieces: &cover.vertex_piece,
                     cover,
-                    values: Some(values),
-                    corners: corners.as_deref().map(|values| Corners {
-                        values,
-                        tile,
-                        of: shown.as_deref(),
-                    }),
+                    values: values.as_deref().map(tiled),
+                    corners: corners.as_deref().map(tiled),
                     mask: false,
                     wire: wire == WireMode::Global,
                 },
@@ -347,22 +352,21 @@ fn view(args: &ViewArgs) -> Result<()> {
             None => "no scalar".to_string(),
             Some((a, b)) => format!(
                 "coloured {} over the property's cell range {a:.4}..{b:.4}",
-                if cells.is_some() {
-                    "cell by cell"
-                } else {
-                    "by values interpolated between nodes"
+                match &shown {
+                    Some(shown) => format!(
+                        "cell by cell, the cells read for the {} of {} tiles the view shows",
+                        shown.iter().filter(|&&v| v).count(),
+                        shown.len()
+                    ),
+                    None => "by values interpolated between nodes".to_string(),
                 }
             ),
         },
         match isolines {
             Some(iso) => format!(
-                ", isolines every {} (the model's, read from the leaves under the {} of {} \
-                 tiles the view shows)",
-                iso.spacing,
-                shown
-                    .as_ref()
-                    .map_or(0, |s| s.iter().filter(|&&v| v).count()),
-                shown.as_ref().map_or(0, Vec::len)
+                ", isolines every {} (the model's, from the full-resolution leaves under \
+                 those tiles)",
+                iso.spacing
             ),
             None => String::new(),
         }
@@ -475,8 +479,8 @@ impl SceneCells {
         CellDraw {
             pieces: &self.pieces,
             cover: &self.cover,
-            values: self.values.as_deref(),
-            corners: self.corners.as_deref().map(Corners::all),
+            values: self.values.as_deref().map(TiledCells::boxes),
+            corners: self.corners.as_deref().map(TiledCells::boxes),
             mask: self.mask,
             wire,
         }

@@ -155,6 +155,15 @@ pub struct NodeRecord {
     _pad: u32,
 }
 
+/// A selected node's box cut into tiles of the file's tile size, and where the values
+/// of each tile asked for start among the node's (see [`LodFile::selection_values`]).
+struct TileLayout {
+    piece: CoverPiece,
+    starts: Vec<Option<usize>>,
+    /// Values of the node's tiles asked for.
+    values: usize,
+}
+
 /// A vertex as stored.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
@@ -892,18 +901,16 @@ impl LodFile {
     /// The cells under the nodes `selection`, for drawing
     /// [`LodFile::selection_mesh`] coloured cell by cell as the model's faces are: a
     /// piece per node (its vertices in `vertex_piece`), whose box is the node's cells
-    /// and whose bits its layer's faces there, and the values of those boxes' cells
-    /// (as [`CellCover::values`] orders them). `None` without a property.
-    pub fn selection_cells(&self, selection: &[u32]) -> Result<Option<(CellCover, Vec<f32>)>> {
+    /// and whose bits its layer's faces there. `None` without a property.
+    pub fn selection_cover(&self, selection: &[u32]) -> Result<Option<CellCover>> {
         if !self.has_scalars() {
             return Ok(None);
         }
         let ni = self.header.dims[0] as usize;
         let mut cover = CellCover::default();
-        let mut values = Vec::new();
         for &i in selection {
             let (n, mut piece) = self.node_box(i)?;
-            let Some((faces, layer_values)) = self.layer_cells(n.layer as usize) else {
+            let Some((faces, _)) = self.layer_cells(n.layer as usize) else {
                 return Ok(None);
             };
             let [i0, j0, i1, j1] = n.cells.map(|c| c as usize);
@@ -917,7 +924,6 @@ impl LodFile {
                         bits[bit / 32] |= 1 << (bit % 32);
                     }
                 }
-                values.extend_from_slice(&layer_values[j * ni + i0..j * ni + i1]);
             }
             let index = cover.pieces.len() as u32;
             cover
@@ -926,18 +932,53 @@ impl LodFile {
             piece.bits = bits;
             cover.pieces.push(piece);
         }
-        Ok(Some((cover, values)))
+        Ok(Some(cover))
+    }
+
+    /// The property's value on every cell of the boxes of
+    /// [`LodFile::selection_cover`], each box cut into tiles of
+    /// [`LodFile::tile_cells`] (its leaves' squares, see [`CoverPiece::tiles`]), tile
+    /// after tile and node after node, each tile's cells row by row; NaN where the
+    /// layer has no face. Only for the tiles that `wanted` marks, one flag per tile of
+    /// each box in that order (all without it): a view needs the values of the part
+    /// of the model it shows. `None` without a property.
+    pub fn selection_values(
+        &self,
+        selection: &[u32],
+        wanted: Option<&[bool]>,
+    ) -> Result<Option<Vec<f32>>> {
+        if !self.has_scalars() {
+            return Ok(None);
+        }
+        let side = self.tile_cells();
+        let ni = self.header.dims[0] as usize;
+        let layouts = self.tile_layouts(selection, wanted, 1)?;
+        let mut values = Vec::with_capacity(layouts.iter().map(|l| l.values).sum());
+        for (&i, layout) in selection.iter().zip(&layouts) {
+            let n = self.node(i)?;
+            let Some((_, layer_values)) = self.layer_cells(n.layer as usize) else {
+                return Ok(None);
+            };
+            let piece = &layout.piece;
+            for t in (0..layout.starts.len()).filter(|&t| layout.starts[t].is_some()) {
+                let [x0, y0, x1, y1] = piece.tile_box(side, t).map(|c| c as usize);
+                let [i0, j0] = [n.cells[0] as usize, n.cells[1] as usize];
+                for j in j0 + y0..j0 + y1 {
+                    let row = j * ni + i0;
+                    values.extend_from_slice(&layer_values[row + x0..row + x1]);
+                }
+            }
+        }
+        Ok(Some(values))
     }
 
     /// The stored scalar at the four corners of every cell of the boxes of
-    /// [`LodFile::selection_cells`] (each cell's as [`CellCover::corner_values`] orders
-    /// them), read from the full-resolution leaves under each selected node: with them
-    /// the renderer draws the isolines of the model's surfaces on whatever level is
-    /// chosen. Each box comes cut into tiles of [`LodFile::tile_cells`] (its leaves'
-    /// squares, see [`CoverPiece::tiles`]), tile after tile and node after node, each
-    /// tile's cells row by row. Only for the tiles that `wanted` marks, one flag per
-    /// tile of each box in that order (all without it): a view reads the leaves under
-    /// the part of the model it shows, not the whole model. `None` without a property.
+    /// [`LodFile::selection_cover`] (each cell's as [`CellCover::corner_values`]
+    /// orders them), read from the full-resolution leaves under each selected node,
+    /// tile after tile as [`LodFile::selection_values`] gives values: with them the
+    /// renderer draws the isolines of the model's surfaces on whatever level is
+    /// chosen. Only for the tiles that `wanted` marks: the leaves under the others
+    /// are not read. `None` without a property.
     pub fn selection_corners(
         &self,
         selection: &[u32],
@@ -946,6 +987,33 @@ impl LodFile {
         if !self.has_scalars() {
             return Ok(None);
         }
+        let layouts = self.tile_layouts(selection, wanted, 4)?;
+        let mut corners = vec![f32::NAN; layouts.iter().map(|l| l.values).sum()];
+        let mut boxes = Vec::with_capacity(layouts.len());
+        let mut rest = &mut corners[..];
+        for layout in &layouts {
+            let (this, next) = rest.split_at_mut(layout.values);
+            boxes.push(this);
+            rest = next;
+        }
+        selection
+            .par_iter()
+            .zip(&layouts)
+            .zip(boxes)
+            .filter(|(_, out)| !out.is_empty())
+            .try_for_each(|((&i, layout), out)| self.node_corners(i, layout, out))?;
+        Ok(Some(corners))
+    }
+
+    /// Per node of `selection`, its box cut into tiles and where the values of the
+    /// tiles that `wanted` marks (one flag per tile of each box, node after node; all
+    /// without it) start among the node's, `per_cell` to a cell.
+    fn tile_layouts(
+        &self,
+        selection: &[u32],
+        wanted: Option<&[bool]>,
+        per_cell: usize,
+    ) -> Result<Vec<TileLayout>> {
         let side = self.tile_cells();
         let pieces = selection
             .iter()
@@ -960,44 +1028,28 @@ impl LodFile {
                 wanted.len()
             )));
         }
-        // Per tile of each box, where its corners start among the node's, and how many
-        // the node has.
         let mut first_tile = 0;
-        let layouts: Vec<(Vec<Option<usize>>, usize)> = pieces
-            .iter()
+        Ok(pieces
+            .into_iter()
             .map(|piece| {
                 let mut values = 0;
                 let starts = (0..piece.tile_count(side))
                     .map(|t| {
                         wanted.is_none_or(|w| w[first_tile + t]).then(|| {
                             let start = values;
-                            values += 4 * piece.tile_cells(side, t);
+                            values += per_cell * piece.tile_cells(side, t);
                             start
                         })
                     })
                     .collect();
                 first_tile += piece.tile_count(side);
-                (starts, values)
+                TileLayout {
+                    piece,
+                    starts,
+                    values,
+                }
             })
-            .collect();
-        let mut corners = vec![f32::NAN; layouts.iter().map(|l| l.1).sum()];
-        let mut boxes = Vec::with_capacity(pieces.len());
-        let mut rest = &mut corners[..];
-        for (_, values) in &layouts {
-            let (this, next) = rest.split_at_mut(*values);
-            boxes.push(this);
-            rest = next;
-        }
-        selection
-            .par_iter()
-            .zip(&pieces)
-            .zip(&layouts)
-            .zip(boxes)
-            .filter(|(_, out)| !out.is_empty())
-            .try_for_each(|(((&i, piece), (starts, _)), out)| {
-                self.node_corners(i, (piece, starts), out)
-            })?;
-        Ok(Some(corners))
+            .collect())
     }
 
     /// Node `i`, or an error naming it.
@@ -1028,12 +1080,8 @@ impl LodFile {
     /// [`LodFile::selection_corners`] of node `i`, whose box is `piece`, into `out`,
     /// four per cell of each tile of the box that `starts` gives a place in `out`; the
     /// leaves under the other tiles are not read.
-    fn node_corners(
-        &self,
-        i: u32,
-        (piece, starts): (&CoverPiece, &[Option<usize>]),
-        out: &mut [f32],
-    ) -> Result<()> {
+    fn node_corners(&self, i: u32, layout: &TileLayout, out: &mut [f32]) -> Result<()> {
+        let TileLayout { piece, starts, .. } = layout;
         let side = self.tile_cells().max(1);
         let across = piece.tiles(side)[0];
         // Does the box of node `m` hold a tile that `starts` places?

@@ -310,10 +310,18 @@ fn file_round_trip_and_selection() {
             );
         }
     }
-    let (cover, values) = file.selection_cells(&chosen).unwrap().expect("a property");
+    // The values come tile by tile (the leaves' squares), each tile's cells row by row.
+    let side = file.tile_cells();
+    let cover = file.selection_cover(&chosen).unwrap().expect("a property");
+    let values = file
+        .selection_values(&chosen, None)
+        .unwrap()
+        .expect("a property");
     assert_eq!(cover.pieces.len(), chosen.len());
     assert_eq!(cover.vertex_piece.len(), drawn.vertex_count());
     let mut first = 0;
+    // Per tile of each box, in order, its values' range.
+    let mut tiles = Vec::new();
     for (piece, &i) in cover.pieces.iter().zip(&chosen) {
         let n = &file.nodes()[i as usize];
         let (faces, layer_values) = file.layer_cells(n.layer as usize).unwrap();
@@ -322,24 +330,48 @@ fn file_round_trip_and_selection() {
             piece.size,
             [n.cells[2] - n.cells[0], n.cells[3] - n.cells[1]]
         );
+        let mut tile_starts = vec![first];
+        for t in 0..piece.tile_count(side) {
+            tile_starts.push(tile_starts[t] + piece.tile_cells(side, t));
+        }
         for y in 0..piece.size[1] as usize {
             for x in 0..piece.size[0] as usize {
                 let c = (n.cells[1] as usize + y) * 40 + n.cells[0] as usize + x;
                 let cell = [piece.origin[0] + x as i32, piece.origin[1] + y as i32];
                 assert_eq!(piece.covers(cell), faces[c / 32] >> (c % 32) & 1 != 0);
-                let v = values[first + y * piece.size[0] as usize + x];
+                let (tile, slot) = piece.tile_slot(side, cell).expect("in the box");
+                let v = values[tile_starts[tile] + slot];
                 assert_eq!(v.to_bits(), layer_values[c].to_bits());
             }
         }
+        tiles.extend(tile_starts.windows(2).map(|w| w[0]..w[1]));
         first += piece.box_cells();
     }
     assert_eq!(first, values.len());
+    assert!(
+        cover.pieces.iter().any(|p| p.tile_count(side) > 1),
+        "a box of several tiles"
+    );
+    // Only the marked tiles' values, one after another, when a view wants only those.
+    let wanted: Vec<bool> = (0..tiles.len()).map(|k| k % 3 == 1).collect();
+    let some = file
+        .selection_values(&chosen, Some(&wanted))
+        .unwrap()
+        .expect("a property");
+    let want: Vec<f32> = tiles
+        .iter()
+        .zip(&wanted)
+        .filter(|(_, w)| **w)
+        .flat_map(|(range, _)| values[range.clone()].to_vec())
+        .collect();
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert!(!want.is_empty() && bits(&some) == bits(&want));
+    assert!(file.selection_values(&chosen, Some(&wanted[1..])).is_err());
 
     // The corners of those boxes' cells: the full-resolution surface's vertex scalars
     // at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever level the
     // node is on; NaN where the layer has no face. Each box comes in its leaves' tiles,
     // tile after tile.
-    let side = file.tile_cells();
     let corners = file
         .selection_corners(&chosen, None)
         .unwrap()
@@ -347,7 +379,7 @@ fn file_round_trip_and_selection() {
     assert_eq!(corners.len(), 4 * values.len());
     let mut first = 0;
     let mut checked = 0;
-    let mut tiles = Vec::new();
+    let mut corner_tiles = Vec::new();
     for (piece, &i) in cover.pieces.iter().zip(&chosen) {
         let n = &file.nodes()[i as usize];
         let layer = &file.layers()[n.layer as usize];
@@ -379,32 +411,27 @@ fn file_round_trip_and_selection() {
         }
         checked += want.iter().filter(|w| !w.is_nan()).count();
         first += piece.box_cells();
-        tiles.extend(tile_starts.windows(2).map(|w| base + w[0]..base + w[1]));
+        corner_tiles.extend(tile_starts.windows(2).map(|w| base + w[0]..base + w[1]));
     }
     assert!(checked > 0);
     assert!(chosen.iter().any(|&i| file.nodes()[i as usize].level > 0));
-    assert!(
-        cover.pieces.iter().any(|p| p.tile_count(side) > 1),
-        "a box of several tiles"
-    );
     // Only the marked tiles' corners, one after another, when a view wants only those.
-    let wanted: Vec<bool> = (0..tiles.len()).map(|k| k % 3 == 1).collect();
     let some = file
         .selection_corners(&chosen, Some(&wanted))
         .unwrap()
         .expect("a property");
-    let want: Vec<f32> = tiles
+    let want: Vec<f32> = corner_tiles
         .iter()
         .zip(&wanted)
         .filter(|(_, w)| **w)
         .flat_map(|(range, _)| corners[range.clone()].to_vec())
         .collect();
-    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert!(!want.is_empty() && bits(&some) == bits(&want));
     assert!(file.selection_corners(&chosen, Some(&wanted[1..])).is_err());
     // Neither without a property.
     let plain = LodFile::open(&plain).unwrap();
-    assert!(plain.selection_cells(&chosen).unwrap().is_none());
+    assert!(plain.selection_cover(&chosen).unwrap().is_none());
+    assert!(plain.selection_values(&chosen, None).unwrap().is_none());
     assert!(plain.selection_corners(&chosen, None).unwrap().is_none());
 }
 
@@ -592,7 +619,8 @@ fn random_damage_never_panics() {
             for max_pixels in [1.0, 4.0, 1e9] {
                 let selection = file.select(&view, max_pixels);
                 let _ = file.selection_mesh(&selection);
-                let _ = file.selection_cells(&selection);
+                let _ = file.selection_cover(&selection);
+                let _ = file.selection_values(&selection, None);
                 let _ = file.selection_corners(&selection, None);
             }
             for l in 0..file.layers().len() {

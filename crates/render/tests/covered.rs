@@ -11,7 +11,7 @@ mod support;
 use strata_grid::{Face, SurfaceMesh, layer_surface};
 use strata_lod::{BuildOptions, CellCover, LodFile, Options, build_file, decimate};
 use strata_render::glam::Vec3;
-use strata_render::{Camera, CellDraw, Corners, Coverage, Style, View, WireMode};
+use strata_render::{Camera, CellDraw, Coverage, Style, TiledCells, View, WireMode};
 use support::*;
 
 const SIZE: u32 = 400;
@@ -178,7 +178,13 @@ fn the_cells_values_colour_a_decimated_surface_as_the_original_faces() {
         with_cells,
         interpolated,
         backend,
-    } = compare_cell_colours(&mesh, &out.mesh, &pieces, &cover, &values);
+    } = compare_cell_colours(
+        &mesh,
+        &out.mesh,
+        &pieces,
+        &cover,
+        TiledCells::boxes(&values),
+    );
     eprintln!(
         "{} -> {} triangles on {backend}: of {compared} cell centres drawn ({} cells), \
          {with_cells} differ from the original's flat colour with the cells' values, \
@@ -234,19 +240,28 @@ fn a_hierarchy_selection_is_coloured_as_the_model_faces() {
     let file = LodFile::open(&path).expect("open");
     let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
     let drawn = file.selection_mesh(&roots).expect("selection");
-    let (cover, values) = file
-        .selection_cells(&roots)
+    let cover = file
+        .selection_cover(&roots)
         .expect("cells")
+        .expect("a property");
+    let values = file
+        .selection_values(&roots, None)
+        .expect("values")
         .expect("a property");
     let original =
         layer_surface(&grid, 0, Face::Top, Some("PORO"), file.origin()).expect("top surface");
+    let values = TiledCells {
+        values: &values,
+        tile: file.tile_cells(),
+        of: None,
+    };
 
     let CellColours {
         compared,
         with_cells,
         interpolated,
         backend,
-    } = compare_cell_colours(&original, &drawn, &cover.vertex_piece, &cover, &values);
+    } = compare_cell_colours(&original, &drawn, &cover.vertex_piece, &cover, values);
     eprintln!(
         "{} triangles in {} roots of {} layer surfaces for {} on {backend}: {with_cells} cell \
          centres differ from the model's flat colour with the cells' values, {interpolated} \
@@ -283,7 +298,7 @@ fn compare_cell_colours(
     drawn: &SurfaceMesh,
     pieces: &[u32],
     cover: &CellCover,
-    values: &[f32],
+    values: TiledCells,
 ) -> CellColours {
     let cells = CellDraw {
         pieces,
@@ -389,7 +404,7 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
         .prepare_cells(
             &mesh,
             &CellDraw {
-                values: Some(&[1.0; 3]),
+                values: Some(TiledCells::boxes(&[1.0; 3])),
                 corners: None,
                 ..draw(&cover.vertex_piece)
             },
@@ -514,16 +529,17 @@ fn dome_hierarchy(dir: &std::path::Path) -> LodFile {
     LodFile::open(&path).expect("open")
 }
 
-/// Seen obliquely, a stack shows its top surface and the others' edges: the isolines
-/// drawn from the corners of the tiles the view shows are those drawn from all of them.
+/// Seen obliquely, a stack shows its top surface and the others' edges: the cells'
+/// colours and isolines drawn from the values of the tiles the view shows are those
+/// drawn from all of them.
 #[test]
-fn isolines_from_the_tiles_a_view_shows_are_those_from_all_tiles() {
+fn cells_and_isolines_from_the_tiles_a_view_shows_are_those_from_all_tiles() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let file = dome_hierarchy(dir.path());
     let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
     let mesh = file.selection_mesh(&roots).expect("selection");
-    let (cover, values) = file
-        .selection_cells(&roots)
+    let cover = file
+        .selection_cover(&roots)
         .expect("cells")
         .expect("a property");
     let (lo, hi) = mesh.bounds().expect("bounds");
@@ -552,42 +568,35 @@ fn isolines_from_the_tiles_a_view_shows_are_those_from_all_tiles() {
     let shown = r
         .visible_tiles(&mesh, (&cover, tile), &view, &style)
         .expect("visible tiles");
-    let all = file
-        .selection_corners(&roots, None)
-        .expect("corners")
-        .expect("a property");
-    let some = file
-        .selection_corners(&roots, Some(&shown))
-        .expect("corners")
-        .expect("a property");
-    let mut frame = |corners: Option<Corners>, style: &Style| {
+    let read = |wanted: Option<&[bool]>| {
+        let values = file.selection_values(&roots, wanted).expect("values");
+        let corners = file.selection_corners(&roots, wanted).expect("corners");
+        values.zip(corners).expect("a property")
+    };
+    let (all_values, all_corners) = read(None);
+    let (some_values, some_corners) = read(Some(&shown));
+    let tiled = |values, of| TiledCells { values, tile, of };
+    let mut frame = |fields: Option<[TiledCells; 2]>, style: &Style| {
         let cells = CellDraw {
             pieces: &cover.vertex_piece,
             cover: &cover,
-            values: Some(&values),
-            corners,
+            values: fields.map(|f| f[0]),
+            corners: fields.map(|f| f[1]),
             mask: false,
             wire: true,
         };
         shaded(&mut r, &mesh, Some(cells), &view, style)
     };
-    let from_all = frame(
-        Some(Corners {
-            values: &all,
-            tile,
-            of: None,
-        }),
-        &style,
-    );
+    let all = [tiled(&all_values, None), tiled(&all_corners, None)];
+    let from_all = frame(Some(all), &style);
     let from_shown = frame(
-        Some(Corners {
-            values: &some,
-            tile,
-            of: Some(&shown),
-        }),
+        Some([
+            tiled(&some_values, Some(&shown)),
+            tiled(&some_corners, Some(&shown)),
+        ]),
         &style,
     );
-    let without = frame(None, &plain);
+    let without = frame(Some(all), &plain);
     let differing = |a: &strata_render::image::RgbaImage, b: &strata_render::image::RgbaImage| {
         a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count()
     };

@@ -13,7 +13,7 @@ use strata_render::wire::Drawable;
 use strata_render::{
     Camera, Coverage, IsolineOptions, Isolines, RangeAdjust, Renderer, Style, View, WireMode,
 };
-use strata_render::{CellDraw, Corners};
+use strata_render::{CellDraw, TiledCells};
 use support::{Frame, Projector, Summary, measuring_style, renderer};
 
 /// Image size; the plane [-1, 1]² fills it head-on, so the screen is an exact
@@ -520,7 +520,7 @@ fn a_decimated_surface_draws_the_original_isolines_from_its_cells_corners() {
                     pieces: &pieces,
                     cover: &cover,
                     values: None,
-                    corners: corners.map(Corners::all),
+                    corners: corners.map(TiledCells::boxes),
                     mask: false,
                     wire: true,
                 },

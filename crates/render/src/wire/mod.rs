@@ -12,7 +12,7 @@ mod texture;
 mod wire_texture;
 
 pub(crate) use texture::CellTechnique;
-pub use texture::{CellDraw, Corners};
+pub use texture::{CellDraw, TiledCells};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;

@@ -380,7 +380,7 @@ pub struct CellTechnique {
 const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
 
 /// Words per piece at the front of the cover texture (see texture.wgsl).
-const COVER_HEADER: usize = 8;
+const COVER_HEADER: usize = 9;
 
 /// The header word of a piece without values (`NO_VALUES` in texture.wgsl).
 const NO_VALUES: u32 = u32::MAX;
@@ -394,15 +394,16 @@ pub struct CellDraw<'a> {
     pub pieces: &'a [u32],
     /// The cells of the surface the drawn one was simplified from.
     pub cover: &'a CellCover,
-    /// `cover.values(original)`: each fragment takes its cell's colour, as the
-    /// original's cell faces do; elsewhere, and without them, the vertex scalars'.
-    pub values: Option<&'a [f32]>,
-    /// `cover.corner_values(original)`, of the field the frame's isolines follow:
-    /// each fragment evaluates the original's field from its texture coordinates, so
-    /// the isolines are the original's as the grid lines are, and none are drawn
-    /// outside its cells. Without them (or for a piece they leave out), isolines
-    /// follow the vertex scalars.
-    pub corners: Option<Corners<'a>>,
+    /// One value per cell (`cover.values(original)` for every box): each fragment
+    /// takes its cell's colour, as the original's cell faces do; elsewhere, and
+    /// without them (or in a tile they leave out), the vertex scalars'.
+    pub values: Option<TiledCells<'a>>,
+    /// Four values per cell (`cover.corner_values(original)` for every box), of the
+    /// field the frame's isolines follow: each fragment evaluates the original's field
+    /// from its texture coordinates, so the isolines are the original's as the grid
+    /// lines are, and none are drawn outside its cells. Without them (or in a tile they
+    /// leave out), isolines follow the vertex scalars.
+    pub corners: Option<TiledCells<'a>>,
     /// Discard the fragments over cells their piece does not cover: for surfaces
     /// decimated with strata-lod's `Options::cover`, whose outlines only grew outward.
     pub mask: bool,
@@ -411,15 +412,13 @@ pub struct CellDraw<'a> {
     pub wire: bool,
 }
 
-/// The field at the corners of the cells of the pieces of a cell cover, four values
-/// per cell (as strata-lod's `CellCover::corner_values` orders a cell's), for the
-/// tiles of each piece's box that `of` marks (all without it). Each box is cut into
-/// squares of `tile` cells from its origin (strata-lod's `CoverPiece::tiles`); the
-/// values come tile after tile, each tile's cells row by row, piece after piece. A
-/// piece's fragments in a tile without values follow the vertex scalars: a view that
-/// shows a few tiles of a large piece needs only theirs.
+/// Values on the cells of the pieces of a cell cover, for the tiles of each piece's box
+/// that `of` marks (all without it). Each box is cut into squares of `tile` cells from
+/// its origin (strata-lod's `CoverPiece::tiles`); the values come tile after tile, each
+/// tile's cells row by row, piece after piece, a fixed number per cell (see
+/// [`CellDraw`]). A view that shows a few tiles of a large piece needs only theirs.
 #[derive(Clone, Copy, Debug)]
-pub struct Corners<'a> {
+pub struct TiledCells<'a> {
     pub values: &'a [f32],
     /// Side of the tiles in cells; `u32::MAX` for one tile per box.
     pub tile: u32,
@@ -427,11 +426,11 @@ pub struct Corners<'a> {
     pub of: Option<&'a [bool]>,
 }
 
-impl<'a> Corners<'a> {
-    /// The corners of every cell of every piece, box after box (as
-    /// `CellCover::corner_values` gives them).
-    pub fn all(values: &'a [f32]) -> Self {
-        Corners {
+impl<'a> TiledCells<'a> {
+    /// Values for every cell of every piece, box after box (as `CellCover::values`
+    /// and `CellCover::corner_values` give them).
+    pub fn boxes(values: &'a [f32]) -> Self {
+        TiledCells {
             values,
             tile: u32::MAX,
             of: None,
@@ -439,8 +438,8 @@ impl<'a> Corners<'a> {
     }
 
     /// Per piece, its tiles among those `of` marks and how many values its marked ones
-    /// hold.
-    fn layout(&self, pieces: &[CoverPiece]) -> Vec<(Range<usize>, usize)> {
+    /// hold at `per_cell` a cell.
+    fn layout(&self, pieces: &[CoverPiece], per_cell: usize) -> Vec<(Range<usize>, usize)> {
         let mut next = 0;
         pieces
             .iter()
@@ -450,13 +449,25 @@ impl<'a> Corners<'a> {
                 let values = tiles
                     .clone()
                     .filter(|&t| self.of.is_none_or(|of| of.get(t) == Some(&true)))
-                    .map(|t| 4 * p.tile_cells(self.tile, t - tiles.start))
+                    .map(|t| per_cell * p.tile_cells(self.tile, t - tiles.start))
                     .sum();
                 (tiles, values)
             })
             .collect()
     }
+
+    /// The part of these for a batch: its `values` and `tiles`.
+    fn part(&self, values: &Range<usize>, tiles: &Range<usize>) -> Self {
+        TiledCells {
+            values: &self.values[values.clone()],
+            of: self.of.map(|of| &of[tiles.clone()]),
+            tile: self.tile,
+        }
+    }
 }
+
+/// Values per cell of [`CellDraw::values`] and [`CellDraw::corners`].
+const PER_CELL: [usize; 2] = [1, 4];
 
 impl CellTechnique {
     /// The pipelines of `fs_uv_cover` with `mask`, else of `fs_uv_cells`; their
@@ -564,26 +575,20 @@ impl CellTechnique {
         let device = &gpu.device;
         let mut batches = Vec::new();
         let mut texels_bytes = 0;
-        for (((batch, cells), (corner_range, tiles)), triangles) in plan
+        for ((batch, parts), triangles) in plan
             .batches
             .iter()
-            .zip(&plan.batch_cells)
-            .zip(plan.batch_corners.iter().zip(&plan.batch_tiles))
+            .zip(&plan.batch_fields)
             .zip(&plan.triangle_ranges)
         {
             if triangles.is_empty() {
                 continue;
             }
-            let mut texels = cover_words(
-                &cover.pieces[batch.clone()],
-                batch.start,
-                values.map(|v| &v[cells.clone()]),
-                corners.map(|c| Corners {
-                    values: &c.values[corner_range.clone()],
-                    of: c.of.map(|of| &of[tiles.clone()]),
-                    ..c
-                }),
-            )?;
+            let mut fields = [values, corners];
+            for (field, (values, tiles)) in fields.iter_mut().zip(parts) {
+                *field = field.map(|f| f.part(values, tiles));
+            }
+            let mut texels = cover_words(&cover.pieces[batch.clone()], batch.start, fields)?;
             let rows = texels.len().div_ceil(width).max(1);
             texels.resize(width * rows, 0);
             texels_bytes += 4 * texels.len() as u64;
@@ -661,12 +666,9 @@ fn cells_label(mask: bool) -> &'static str {
 /// the batch of its first vertex's piece, which the flat-interpolated piece takes).
 struct CoverPlan {
     batches: Vec<Range<usize>>,
-    /// Per batch, its pieces' cells (and values) among all the pieces'.
-    batch_cells: Vec<Range<usize>>,
-    /// Per batch, its pieces' corner values among all of them.
-    batch_corners: Vec<Range<usize>>,
-    /// Per batch, its pieces' corner tiles among all of them.
-    batch_tiles: Vec<Range<usize>>,
+    /// Per batch, for the cell values and the corner values: its pieces' values among
+    /// all the pieces' and their tiles among all.
+    batch_fields: Vec<[(Range<usize>, Range<usize>); 2]>,
     triangles: Vec<[u32; 3]>,
     /// Per batch, its triangles in `triangles`.
     triangle_ranges: Vec<Range<u32>>,
@@ -681,79 +683,74 @@ impl CoverPlan {
             corners,
             ..
         } = *cells;
-        let cell_count = cover.box_cells();
-        if let Some(values) = values
-            && values.len() != cell_count
+        // Per field and piece, its tiles and the values of the marked ones.
+        let fields = [values, corners];
+        let mut layouts = [Vec::new(), Vec::new()];
+        for (((field, per_cell), layout), name) in fields
+            .iter()
+            .zip(PER_CELL)
+            .zip(&mut layouts)
+            .zip(["cell values", "corner values"])
         {
-            return Err(Error::Invalid(format!(
-                "{} cell values for a cover of {cell_count} cells",
-                values.len()
-            )));
-        }
-        // Per piece, its corner tiles and the values of the marked ones.
-        let layout = corners.map_or_else(
-            || vec![(0..0, 0); cover.pieces.len()],
-            |c| c.layout(&cover.pieces),
-        );
-        let tile_count = layout.last().map_or(0, |(tiles, _)| tiles.end);
-        if let Some(of) = corners.and_then(|c| c.of)
-            && of.len() != tile_count
-        {
-            return Err(Error::Invalid(format!(
-                "corners marked for {} tiles of a cover of {tile_count}",
-                of.len()
-            )));
-        }
-        let corner_count: usize = layout.iter().map(|(_, values)| values).sum();
-        if let Some(corners) = corners
-            && corners.values.len() != corner_count
-        {
-            return Err(Error::Invalid(format!(
-                "{} corner values for {corner_count} (four per cell of the tiles that have them)",
-                corners.values.len()
-            )));
+            let Some(field) = field else {
+                *layout = vec![(0..0, 0); cover.pieces.len()];
+                continue;
+            };
+            *layout = field.layout(&cover.pieces, per_cell);
+            let tile_count = layout.last().map_or(0, |(tiles, _)| tiles.end);
+            if let Some(of) = field.of
+                && of.len() != tile_count
+            {
+                return Err(Error::Invalid(format!(
+                    "{name} marked for {} tiles of a cover of {tile_count}",
+                    of.len()
+                )));
+            }
+            let count: usize = layout.iter().map(|(_, values)| values).sum();
+            if field.values.len() != count {
+                return Err(Error::Invalid(format!(
+                    "{} {name} for {count} ({per_cell} per cell of the tiles that have them)",
+                    field.values.len()
+                )));
+            }
         }
         let mut batches: Vec<Range<usize>> = Vec::new();
-        let mut batch_cells: Vec<Range<usize>> = Vec::new();
-        let mut batch_corners: Vec<Range<usize>> = Vec::new();
-        let mut batch_tiles: Vec<Range<usize>> = Vec::new();
+        let mut batch_fields: Vec<[(Range<usize>, Range<usize>); 2]> = Vec::new();
         let mut batch_of_piece = Vec::with_capacity(cover.pieces.len());
         let mut words = 1;
-        let mut cells = 0;
-        let mut corner_end = 0;
-        for (i, (p, (tiles, corner_values))) in cover.pieces.iter().zip(&layout).enumerate() {
+        let mut value_ends = [0; 2];
+        for (i, p) in cover.pieces.iter().enumerate() {
+            let parts = [0, 1].map(|k| &layouts[k][i]);
             let w = COVER_HEADER
                 + p.bits.len()
-                + values.map_or(0, |_| p.box_cells())
-                + corner_words(tiles, *corner_values);
+                + parts
+                    .iter()
+                    .map(|(tiles, values)| field_words(tiles, *values))
+                    .sum::<usize>();
             if 1 + w > capacity {
                 return Err(Error::Invalid(format!(
                     "piece {i} of the cell cover takes {w} words, more than this adapter's \
                      texture holds ({capacity})"
                 )));
             }
-            let box_cells = cells..cells + p.box_cells();
-            cells = box_cells.end;
-            let box_corners = corner_end..corner_end + corner_values;
-            corner_end = box_corners.end;
-            match (
-                batches.last_mut(),
-                batch_cells.last_mut(),
-                batch_corners.last_mut(),
-                batch_tiles.last_mut(),
-            ) {
-                (Some(b), Some(c), Some(k), Some(t)) if words + w <= capacity => {
+            let ranges = [0, 1].map(|k| {
+                let (tiles, values) = parts[k];
+                let values = value_ends[k]..value_ends[k] + values;
+                value_ends[k] = values.end;
+                (values, tiles.clone())
+            });
+            match (batches.last_mut(), batch_fields.last_mut()) {
+                (Some(b), Some(f)) if words + w <= capacity => {
                     b.end = i + 1;
-                    c.end = box_cells.end;
-                    k.end = box_corners.end;
-                    t.end = tiles.end;
+                    for (f, (values, tiles)) in f.iter_mut().zip(ranges) {
+                        f.0.end = values.end;
+                        f.1.end = tiles.end;
+                    }
                     words += w;
                 }
                 _ => {
                     batches.push(i..i + 1);
-                    batch_cells.push(box_cells);
-                    batch_corners.push(box_corners);
-                    batch_tiles.push(tiles.clone());
+                    batch_fields.push(ranges);
                     words = 1 + w;
                 }
             }
@@ -777,75 +774,79 @@ impl CoverPlan {
         Ok(CoverPlan {
             triangle_ranges: starts.windows(2).map(|w| w[0]..w[1]).collect(),
             batches,
-            batch_cells,
-            batch_corners,
-            batch_tiles,
+            batch_fields,
             triangles,
         })
     }
 }
 
-/// Words of a piece's corners, its `tiles` and the `values` of the marked ones: a table
-/// of its tiles and the values, where it has any.
-fn corner_words(tiles: &Range<usize>, values: usize) -> usize {
+/// Words of a piece's field, its `tiles` and the `values` of the marked ones: a table of
+/// its tiles and the values, where it has any.
+fn field_words(tiles: &Range<usize>, values: usize) -> usize {
     if values > 0 { tiles.len() + values } else { 0 }
 }
 
 /// The words of a batch of `pieces`, the first of which is piece `first_piece` of the
-/// cover, of their `values` (one per cell of each piece's box, see
-/// `CellCover::values`) and of their `corners` when given, as `covered_cell`,
-/// `cell_scalar` and `cell_iso` in texture.wgsl read them.
+/// cover, and of their cell values and corner values (`fields`, see [`CellDraw`]) when
+/// given, as `covered_cell`, `cell_scalar` and `cell_iso` in texture.wgsl read them.
 fn cover_words(
     pieces: &[CoverPiece],
     first_piece: usize,
-    values: Option<&[f32]>,
-    corners: Option<Corners>,
+    fields: [Option<TiledCells>; 2],
 ) -> Result<Vec<u32>> {
-    let layout = corners.map_or_else(Vec::new, |c| c.layout(pieces));
+    let layouts =
+        [0, 1].map(|k| fields[k].map_or_else(Vec::new, |f| f.layout(pieces, PER_CELL[k])));
     let bit_words: usize = pieces.iter().map(|p| p.bits.len()).sum();
     let header = 1 + COVER_HEADER * pieces.len();
-    let value_words = values.map_or(0, <[f32]>::len);
-    let table_words: usize = layout
-        .iter()
-        .filter(|(_, v)| *v > 0)
-        .map(|(t, _)| t.len())
-        .sum();
-    let corner_values = corners.map_or(0, |c| c.values.len());
-    let total = header + bit_words + value_words + table_words + corner_values;
+    let field_total = |k: usize| -> usize {
+        layouts[k]
+            .iter()
+            .map(|(tiles, values)| field_words(tiles, *values))
+            .sum()
+    };
+    let total = header + bit_words + field_total(0) + field_total(1);
     let word = |offset: usize| {
         u32::try_from(offset)
             .ok()
             .filter(|&w| w != NO_VALUES)
             .ok_or_else(|| Error::Invalid(format!("a cell cover of {total} words (over 2^32)")))
     };
+    // Each field's tile tables, then its values.
+    let table_words = |k: usize| -> usize {
+        layouts[k]
+            .iter()
+            .filter(|(_, v)| *v > 0)
+            .map(|(t, _)| t.len())
+            .sum()
+    };
+    let first_table = [header + bit_words, header + bit_words + field_total(0)];
+    let first_values = [0, 1].map(|k| first_table[k] + table_words(k));
     let mut words = Vec::with_capacity(total);
     words.push(word(first_piece)?);
     let mut bits = header;
-    let mut first_value = bits + bit_words;
-    let mut table = first_value + value_words;
+    let mut table = first_table;
     for (i, p) in pieces.iter().enumerate() {
-        let corners = corners.zip(layout.get(i)).filter(|(_, (_, v))| *v > 0);
+        let mut tables = [NO_VALUES; 2];
+        for k in 0..2 {
+            if let Some((tiles, values)) = layouts[k].get(i)
+                && *values > 0
+            {
+                tables[k] = word(table[k])?;
+                table[k] += tiles.len();
+            }
+        }
         words.extend([
             p.origin[0] as u32,
             p.origin[1] as u32,
             p.size[0],
             p.size[1],
             word(bits)?,
-            match values {
-                Some(_) => word(first_value)?,
-                None => NO_VALUES,
-            },
-            match corners {
-                Some(_) => word(table)?,
-                None => NO_VALUES,
-            },
-            corners.map_or(u32::MAX, |(c, _)| c.tile),
+            tables[0],
+            tables[1],
+            fields[0].map_or(u32::MAX, |f| f.tile),
+            fields[1].map_or(u32::MAX, |f| f.tile),
         ]);
         bits += p.bits.len();
-        first_value += p.box_cells();
-        if let Some((_, (tiles, _))) = corners {
-            table += tiles.len();
-        }
     }
     for p in pieces {
         words.extend_from_slice(&p.bits);
@@ -857,23 +858,25 @@ fn cover_words(
             UNDEFINED_SCALAR.to_bits()
         }
     };
-    words.extend(values.into_iter().flatten().map(scalar_bits));
-    if let Some(c) = corners {
-        let mut first_corner = table;
-        for (p, (tiles, values)) in pieces.iter().zip(&layout) {
+    for k in 0..2 {
+        let Some(field) = fields[k] else {
+            continue;
+        };
+        let mut first = first_values[k];
+        for (p, (tiles, values)) in pieces.iter().zip(&layouts[k]) {
             if *values == 0 {
                 continue;
             }
             for t in tiles.clone() {
-                if c.of.is_none_or(|of| of[t]) {
-                    words.push(word(first_corner)?);
-                    first_corner += 4 * p.tile_cells(c.tile, t - tiles.start);
+                if field.of.is_none_or(|of| of[t]) {
+                    words.push(word(first)?);
+                    first += PER_CELL[k] * p.tile_cells(field.tile, t - tiles.start);
                 } else {
                     words.push(NO_VALUES);
                 }
             }
         }
-        words.extend(c.values.iter().map(scalar_bits));
+        words.extend(field.values.iter().map(scalar_bits));
     }
     Ok(words)
 }
@@ -963,8 +966,8 @@ mod tests {
             ..mesh.clone()
         };
         let corners = cover.corner_values(&field).expect("corner values");
-        // Header, bits, values, a one-tile table and the corners.
-        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 36 + 1 + 4 * 36;
+        // Header, bits, and the values and the corners, each with a one-tile table.
+        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 1 + 36 + 1 + 4 * 36;
         let mut r = Renderer::headless().expect("renderer");
         let technique = CellTechnique::new(&r.context(), false, true);
         let draw = |values, corners| CellDraw {
@@ -1006,20 +1009,23 @@ mod tests {
                 .expect("render");
             (plan.batches.len(), image)
         };
-        let all = draw(Some(&values), Some(Corners::all(&corners)));
+        let all = draw(
+            Some(TiledCells::boxes(&values)),
+            Some(TiledCells::boxes(&corners)),
+        );
         let (one, whole) = frame(all, 1 << 20, &with_isolines);
         let (nine, batched) = frame(all, 1 + piece_words, &with_isolines);
-        // The same corners in tiles of 4 x 4 cells (four per 6 x 6 block, clipped),
-        // all of them or every other one: the fragments in the others follow the
-        // vertex scalars, and batches still cut the values where the tiles have them.
+        // The same values in tiles of 4 x 4 cells (four per 6 x 6 block, clipped), all
+        // of them or every other one: the fragments in the others follow the vertex
+        // scalars, and batches still cut the values where the tiles have them.
         let side = 4;
-        let tile_values = |p: usize, t: usize| {
+        let tile_values = |p: usize, t: usize, field: &[f32], per_cell: usize| {
             let piece = &cover.pieces[p];
             let first: usize = cover.pieces[..p].iter().map(CoverPiece::box_cells).sum();
             let [x0, y0, x1, y1] = piece.tile_box(side, t);
             (y0..y1)
-                .flat_map(|y| (x0..x1).map(move |x| (y * piece.size[0] + x) as usize))
-                .flat_map(|slot| corners[4 * (first + slot)..4 * (first + slot + 1)].to_vec())
+                .flat_map(|y| (x0..x1).map(move |x| first + (y * piece.size[0] + x) as usize))
+                .flat_map(|c| field[per_cell * c..per_cell * (c + 1)].to_vec())
                 .collect::<Vec<f32>>()
         };
         let tiles: Vec<(usize, usize)> = (0..cover.pieces.len())
@@ -1027,35 +1033,44 @@ mod tests {
             .collect();
         assert_eq!(tiles.len(), 36);
         let marked: Vec<bool> = (0..tiles.len()).map(|t| t % 2 == 0).collect();
-        let pick = |marks: &[bool]| -> Vec<f32> {
+        let every = vec![true; tiles.len()];
+        let pick = |marks: &[bool], field: &[f32], per_cell: usize| -> Vec<f32> {
             tiles
                 .iter()
                 .zip(marks)
                 .filter(|(_, m)| **m)
-                .flat_map(|(&(p, t), _)| tile_values(p, t))
+                .flat_map(|(&(p, t), _)| tile_values(p, t, field, per_cell))
                 .collect()
         };
-        let every = pick(&vec![true; tiles.len()]);
-        let some = pick(&marked);
-        let tiled = draw(
-            Some(&values),
-            Some(Corners {
-                values: &every,
-                tile: side,
-                of: None,
-            }),
+        let (every_value, every_corner) = (pick(&every, &values, 1), pick(&every, &corners, 4));
+        let (some_values, some_corners) = (pick(&marked, &values, 1), pick(&marked, &corners, 4));
+        let tiled = |values, of| TiledCells {
+            values,
+            tile: side,
+            of,
+        };
+        let (_, tiled_whole) = frame(
+            draw(
+                Some(tiled(&every_value, None)),
+                Some(tiled(&every_corner, None)),
+            ),
+            1 << 20,
+            &with_isolines,
         );
-        let (_, tiled_whole) = frame(tiled, 1 << 20, &with_isolines);
         let partial = draw(
-            Some(&values),
-            Some(Corners {
-                values: &some,
-                tile: side,
-                of: Some(&marked),
-            }),
+            Some(tiled(&some_values, Some(&marked))),
+            Some(tiled(&some_corners, Some(&marked))),
         );
         let (_, partial_whole) = frame(partial, 1 << 20, &with_isolines);
         let (_, partial_batched) = frame(partial, 1 + piece_words, &with_isolines);
+        let (_, some_coloured) = frame(
+            draw(
+                Some(tiled(&some_values, Some(&marked))),
+                Some(TiledCells::boxes(&corners)),
+            ),
+            1 << 20,
+            &with_isolines,
+        );
         let (_, no_isolines) = frame(all, 1 << 20, &plain);
         let (_, interpolated) = frame(draw(None, None), 1 << 20, &plain);
         assert_eq!((one, nine), (1, 9));
@@ -1066,15 +1081,19 @@ mod tests {
         assert_eq!(
             differing(&whole, &tiled_whole),
             0,
-            "the corners in tiles draw what they draw in boxes"
+            "the values in tiles draw what they draw in boxes"
         );
         assert_eq!(
             differing(&partial_whole, &partial_batched),
             0,
-            "batches change the frame with corners for some pieces"
+            "batches change the frame with values for some tiles"
         );
         assert!(
-            differing(&whole, &partial_whole) > 240 * 240 / 200,
+            differing(&whole, &some_coloured) > 240 * 240 / 20,
+            "tiles without cell values take the vertex scalars' colours"
+        );
+        assert!(
+            differing(&some_coloured, &partial_whole) > 240 * 240 / 200,
             "tiles without corners draw the vertex scalars' isolines"
         );
         assert!(
@@ -1089,30 +1108,24 @@ mod tests {
             CoverPlan::new(&mesh, &all, piece_words).is_err(),
             "a piece larger than a texture is refused"
         );
-        assert!(
-            CoverPlan::new(
-                &mesh,
-                &draw(None, Some(Corners::all(&corners[4..]))),
-                1 << 20
-            )
-            .is_err(),
-            "corner values of another cover are refused"
-        );
-        let wrong = Corners {
-            of: Some(&marked[1..]),
-            ..Corners::all(&some)
+        let refused = |cells: CellDraw, why: &str| {
+            assert!(CoverPlan::new(&mesh, &cells, 1 << 20).is_err(), "{why}");
         };
-        assert!(
-            CoverPlan::new(&mesh, &draw(None, Some(wrong)), 1 << 20).is_err(),
-            "marks for another number of tiles are refused"
+        refused(
+            draw(None, Some(TiledCells::boxes(&corners[4..]))),
+            "corner values of another cover",
         );
-        let short = Corners {
-            values: &every[4..],
-            ..tiled.corners.expect("corners")
-        };
-        assert!(
-            CoverPlan::new(&mesh, &draw(None, Some(short)), 1 << 20).is_err(),
-            "too few corner values for the tiles are refused"
+        refused(
+            draw(Some(TiledCells::boxes(&values[1..])), None),
+            "cell values of another cover",
+        );
+        refused(
+            draw(None, Some(tiled(&some_corners, Some(&marked[1..])))),
+            "marks for another number of tiles",
+        );
+        refused(
+            draw(Some(tiled(&every_value[1..], None)), None),
+            "too few cell values for the tiles",
         );
     }
 }

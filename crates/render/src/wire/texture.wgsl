@@ -67,15 +67,15 @@ fn uv_colour(in: UvOut, colour_scalar: f32, iso: f32, wire: bool) -> vec4<f32> {
 }
 
 // Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover),
-// for a batch of consecutive pieces: the batch's first piece, then eight words per
+// for a batch of consecutive pieces: the batch's first piece, then nine words per
 // piece (first cell x and y as i32, cells across and down, index of its first bit word,
-// index of its first value word or NO_VALUES, index of its corner tile table or
-// NO_VALUES, side in cells of the square tiles its box is cut into from its first
-// cell), then the bits, then the values (f32 bits), then the corner tile tables (per
-// tile of the box, row by row, the index of its first corner word or NO_VALUES), then
-// the corner values (four f32 per cell of each tile that has them: the field at the
-// cell's corners (0, 0), (1, 0), (1, 1), (0, 1)), each a row of cells after another,
-// in a texture read as a flat array.
+// indices of its tile tables of cell values and of corner values or NO_VALUES, and the
+// side in cells of the square tiles of each, cut from its box's first cell), then the
+// bits, then the value tiles and values, then the corner tiles and corner values. A
+// tile table holds, per tile of the box, row by row, the index of the tile's first
+// value or NO_VALUES; a tile's values are, per cell row by row, one f32 (cell values)
+// or four (the field at the cell's corners (0, 0), (1, 0), (1, 1), (0, 1)). All in a
+// texture read as a flat array.
 @group(1) @binding(4) var cover_words: texture_2d<u32>;
 
 const NO_VALUES: u32 = 0xffffffffu;
@@ -94,9 +94,31 @@ fn cover_word(i: u32) -> u32 {
     return textureLoad(cover_words, vec2<u32>(i % w, i / w), 0).x;
 }
 
-// Where `piece`'s eight header words start.
+// Where `piece`'s nine header words start.
 fn piece_header(piece: u32) -> u32 {
-    return 1u + 8u * (piece - cover_word(0u));
+    return 1u + 9u * (piece - cover_word(0u));
+}
+
+// Where the values of `cell` (its place in the box of the piece whose header is at `h`)
+// start, `per_cell` to a cell, in the field whose tile table is header word `field`
+// (5: cell values, 6: corner values, their tile sides two words on); NO_VALUES
+// where the piece or the cell's tile has none.
+fn cell_values(h: u32, field: u32, cell: u32, per_cell: u32) -> u32 {
+    let table = cover_word(h + field);
+    if table == NO_VALUES {
+        return NO_VALUES;
+    }
+    let size = vec2<u32>(cover_word(h + 2u), cover_word(h + 3u));
+    let side = cover_word(h + field + 2u);
+    let at = vec2<u32>(cell % size.x, cell / size.x);
+    let tile = at / side;
+    let first = cover_word(table + tile.y * ((size.x - 1u) / side + 1u) + tile.x);
+    if first == NO_VALUES {
+        return NO_VALUES;
+    }
+    let lo = tile * side;
+    let across = min(side, size.x - lo.x);
+    return first + per_cell * ((at.y - lo.y) * across + at.x - lo.x);
 }
 
 // The place in `piece`'s box of the cell of global coordinates `uv` (node (i, j) at
@@ -117,13 +139,17 @@ fn covered_cell(piece: u32, uv: vec2<f32>) -> i32 {
 }
 
 // The scalar that colours a fragment: its cell's value where the piece covers the cell
-// and has values, as the original's cell faces are painted; else the interpolated one.
+// and has values there, as the original's cell faces are painted; else the
+// interpolated one.
 fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
-    let first = cover_word(piece_header(piece) + 5u);
-    if cell < 0 || first == NO_VALUES {
+    if cell < 0 {
         return interpolated;
     }
-    return bitcast<f32>(cover_word(first + u32(cell)));
+    let v = cell_values(piece_header(piece), 5u, u32(cell), 1u);
+    if v == NO_VALUES {
+        return interpolated;
+    }
+    return bitcast<f32>(cover_word(v));
 }
 
 // The isoline coordinate at global coordinates `uv` in `cell` of `piece`: the
@@ -134,24 +160,16 @@ fn cell_scalar(piece: u32, cell: i32, interpolated: f32) -> f32 {
 // do (line_coordinate).
 fn cell_iso(piece: u32, cell: i32, uv: vec2<f32>, interpolated: f32) -> f32 {
     let h = piece_header(piece);
-    let table = cover_word(h + 6u);
-    if table == NO_VALUES {
+    if cover_word(h + 6u) == NO_VALUES {
         return interpolated;
     }
     if cell < 0 {
         return ISO_UNDEFINED;
     }
-    let size = vec2<u32>(cover_word(h + 2u), cover_word(h + 3u));
-    let side = cover_word(h + 7u);
-    let at = vec2<u32>(u32(cell) % size.x, u32(cell) / size.x);
-    let tile = at / side;
-    let first = cover_word(table + tile.y * ((size.x - 1u) / side + 1u) + tile.x);
-    if first == NO_VALUES {
+    let c = cell_values(h, 6u, u32(cell), 4u);
+    if c == NO_VALUES {
         return interpolated;
     }
-    let lo = tile * side;
-    let across = min(side, size.x - lo.x);
-    let c = first + 4u * ((at.y - lo.y) * across + at.x - lo.x);
     let f = vec4<f32>(
         bitcast<f32>(cover_word(c)),
         bitcast<f32>(cover_word(c + 1u)),
