@@ -420,9 +420,9 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
     // below).
     for printed in [&full, &coarse] {
         let count = |after: &str| word_after(printed, after).and_then(|w| w.parse::<usize>().ok());
-        let shown = count("cells read for the ");
+        let shown = count("the cells of the ");
         let tiles = printed
-            .split_once("cells read for the ")
+            .split_once("the cells of the ")
             .and_then(|(_, rest)| word_after(rest, " of "))
             .and_then(|w| w.parse::<usize>().ok());
         eprintln!("{shown:?} of {tiles:?} tiles shown");

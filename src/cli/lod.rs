@@ -351,14 +351,19 @@ fn view(args: &ViewArgs) -> Result<()> {
         match scalar_range {
             None => "no scalar".to_string(),
             Some((a, b)) => format!(
-                "coloured {} over the property's cell range {a:.4}..{b:.4}",
+                "coloured {} over the property's cell range {a:.4}..{b:.4}{}",
+                if shown.is_some() {
+                    "cell by cell"
+                } else {
+                    "by values interpolated between nodes"
+                },
                 match &shown {
                     Some(shown) => format!(
-                        "cell by cell, the cells read for the {} of {} tiles the view shows",
+                        " (the cells of the {} of {} tiles the view shows)",
                         shown.iter().filter(|&&v| v).count(),
                         shown.len()
                     ),
-                    None => "by values interpolated between nodes".to_string(),
+                    None => String::new(),
                 }
             ),
         },
