@@ -164,6 +164,26 @@ struct TileLayout {
     values: usize,
 }
 
+/// Sets the `len` bits of `dst` from bit `to` that are set in `src` from bit `from`
+/// (bit `b` of a slice is bit `b % 32` of word `b / 32`), a word of `dst` at a time: a
+/// row of a layer's faces into a box's bits.
+fn copy_bits((src, from): (&[u32], usize), (dst, to): (&mut [u32], usize), len: usize) {
+    let (mut from, mut to, mut left) = (from, to, len);
+    while left > 0 {
+        let n = (32 - to % 32).min(left);
+        let (w, s) = (from / 32, from % 32);
+        let mut chunk = src[w] >> s;
+        if s + n > 32 {
+            chunk |= src[w + 1] << (32 - s);
+        }
+        if n < 32 {
+            chunk &= (1 << n) - 1;
+        }
+        dst[to / 32] |= chunk << (to % 32);
+        (from, to, left) = (from + n, to + n, left - n);
+    }
+}
+
 /// A vertex as stored.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
@@ -914,16 +934,9 @@ impl LodFile {
                 return Ok(None);
             };
             let [i0, j0, i1, j1] = n.cells.map(|c| c as usize);
-            let size = piece.size.map(|s| s as usize);
             let mut bits = vec![0u32; piece.box_cells().div_ceil(32)];
             for (y, j) in (j0..j1).enumerate() {
-                for (x, i) in (i0..i1).enumerate() {
-                    let c = j * ni + i;
-                    if faces[c / 32] >> (c % 32) & 1 != 0 {
-                        let bit = y * size[0] + x;
-                        bits[bit / 32] |= 1 << (bit % 32);
-                    }
-                }
+                copy_bits((faces, j * ni + i0), (&mut bits, y * (i1 - i0)), i1 - i0);
             }
             let index = cover.pieces.len() as u32;
             cover
@@ -1141,5 +1154,32 @@ impl LodFile {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::copy_bits;
+
+    #[test]
+    fn bits_are_copied_at_any_offsets_as_one_by_one() {
+        // A pattern with runs and isolated bits, no period of 32.
+        let src: Vec<u32> = (0..6u32)
+            .map(|k| k.wrapping_mul(0x9E37_79B9) ^ 0x0F0F_3C3C)
+            .collect();
+        let bit = |v: &[u32], b: usize| v[b / 32] >> (b % 32) & 1;
+        for from in [0, 1, 31, 32, 33, 70] {
+            for to in [0, 5, 31, 32, 63] {
+                for len in [0, 1, 7, 31, 32, 33, 64, 100] {
+                    let mut dst = vec![0u32; 6];
+                    copy_bits((&src, from), (&mut dst, to), len);
+                    let mut want = vec![0u32; 6];
+                    for b in 0..len {
+                        want[(to + b) / 32] |= bit(&src, from + b) << ((to + b) % 32);
+                    }
+                    assert_eq!(dst, want, "from {from}, to {to}, {len} bits");
+                }
+            }
+        }
     }
 }
