@@ -354,18 +354,23 @@ fn file_round_trip_and_selection() {
     );
     // Only the marked tiles' values, one after another, when a view wants only those.
     let wanted: Vec<bool> = (0..tiles.len()).map(|k| k % 3 == 1).collect();
+    // The marked tiles' part of `all`, `per_cell` values a cell, as bits.
+    let marked_part = |all: &[f32], per_cell: usize| -> Vec<u32> {
+        tiles
+            .iter()
+            .zip(&wanted)
+            .filter(|(_, w)| **w)
+            .flat_map(|(range, _)| &all[per_cell * range.start..per_cell * range.end])
+            .map(|v| v.to_bits())
+            .collect()
+    };
+    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let some = file
         .selection_values(&chosen, Some(&wanted))
         .unwrap()
         .expect("a property");
-    let want: Vec<f32> = tiles
-        .iter()
-        .zip(&wanted)
-        .filter(|(_, w)| **w)
-        .flat_map(|(range, _)| values[range.clone()].to_vec())
-        .collect();
-    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert!(!want.is_empty() && bits(&some) == bits(&want));
+    let want = marked_part(&values, 1);
+    assert!(!want.is_empty() && bits(&some) == want);
     assert!(file.selection_values(&chosen, Some(&wanted[1..])).is_err());
 
     // The corners of those boxes' cells: the full-resolution surface's vertex scalars
@@ -407,13 +412,8 @@ fn file_round_trip_and_selection() {
         .selection_corners(&chosen, Some(&wanted))
         .unwrap()
         .expect("a property");
-    let want: Vec<f32> = tiles
-        .iter()
-        .zip(&wanted)
-        .filter(|(_, w)| **w)
-        .flat_map(|(range, _)| corners[4 * range.start..4 * range.end].to_vec())
-        .collect();
-    assert!(!want.is_empty() && bits(&some) == bits(&want));
+    let want = marked_part(&corners, 4);
+    assert!(!want.is_empty() && bits(&some) == want);
     assert!(file.selection_corners(&chosen, Some(&wanted[1..])).is_err());
     // Neither without a property.
     let plain = LodFile::open(&plain).unwrap();
