@@ -207,37 +207,14 @@ fn a_hierarchy_selection_is_coloured_as_the_model_faces() {
     // A flat layer of 24 x 24 cells of 10 m, valued 0..4 in a pattern no smooth field
     // follows; its hierarchy's roots are a few triangles per tile.
     let n = CELLS;
-    let coord: Vec<f64> = (0..=n)
-        .flat_map(|j| (0..=n).map(move |i| (i, j)))
-        .flat_map(|(i, j)| {
-            let (x, y) = (10.0 * i as f64, 10.0 * j as f64);
-            [x, y, 1000.0, x, y, 1010.0]
-        })
-        .collect();
-    let zcorn: Vec<f32> = (0..2)
-        .flat_map(|top| vec![1000.0 + 10.0 * top as f32; 4 * n * n])
-        .collect();
-    let dims = strata_grid::Dims {
-        nx: n,
-        ny: n,
-        nz: 1,
-    };
-    let mut grid =
-        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a flat grid");
     let value = |i: usize, j: usize| ((7 * i + 3 * j) % 5) as f32;
-    grid.set_property(
-        "PORO",
-        strata_grid::ndarray::Array3::from_shape_fn((1, n, n), |(_, j, i)| value(i, j)),
-    )
-    .expect("PORO");
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let path = dir.path().join("flat.lod");
-    let options = BuildOptions {
-        tile_cells: 8,
-        ..BuildOptions::default()
-    };
-    build_file(&grid, Some("PORO"), &path, &options).expect("build");
-    let file = LodFile::open(&path).expect("open");
+    let (grid, file) = square_hierarchy(
+        &dir.path().join("flat.lod"),
+        (n, 1),
+        |_, _, level| 1000.0 + 10.0 * level as f32,
+        |i, j, _| value(i, j),
+    );
     let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
     let drawn = file.selection_mesh(&roots).expect("selection");
     let cover = file
@@ -483,10 +460,15 @@ fn visible_tiles_are_those_the_nearest_surface_shows_and_only_those() {
     );
 }
 
-/// A stack of four layers of 48 x 48 cells of 10 m on a dome, their porosity rising
-/// across the map and down the stack, in a hierarchy of 8-cell tiles.
-fn dome_hierarchy(dir: &std::path::Path) -> LodFile {
-    let (n, nz) = (48, 4);
+/// A grid of `n` x `n` x `nz` cells of 10 m on vertical pillars, its horizon `level`
+/// (0 the top) at depth `depth(i, j, level)` at node (i, j), with `poro(i, j, k)` as
+/// PORO, and its hierarchy of 8-cell tiles saved at `path`.
+fn square_hierarchy(
+    path: &std::path::Path,
+    (n, nz): (usize, usize),
+    depth: impl Fn(usize, usize, usize) -> f32 + Copy,
+    poro: impl Fn(usize, usize, usize) -> f32,
+) -> (strata_grid::CornerPointGrid, LodFile) {
     let coord: Vec<f64> = (0..=n)
         .flat_map(|j| (0..=n).map(move |i| (i, j)))
         .flat_map(|(i, j)| {
@@ -494,39 +476,48 @@ fn dome_hierarchy(dir: &std::path::Path) -> LodFile {
             [x, y, 1000.0, x, y, 1100.0]
         })
         .collect();
-    let dome = |i: usize, j: usize| {
-        let (x, y) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
-        1000.0 + 20.0 * (x * x + y * y)
-    };
     let zcorn: Vec<f32> = (0..nz)
         .flat_map(|k| [k, k + 1])
         .flat_map(|level| {
             (0..n).flat_map(move |j| {
                 (0..2).flat_map(move |dj| {
-                    (0..n).flat_map(move |i| {
-                        (0..2).map(move |di| dome(i + di, j + dj) + 4.0 * level as f32)
-                    })
+                    (0..n).flat_map(move |i| (0..2).map(move |di| depth(i + di, j + dj, level)))
                 })
             })
         })
         .collect();
     let dims = strata_grid::Dims { nx: n, ny: n, nz };
     let mut grid =
-        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a dome");
+        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a grid");
     grid.set_property(
         "PORO",
-        strata_grid::ndarray::Array3::from_shape_fn((nz, n, n), |(k, j, i)| {
-            0.1 + 0.004 * i as f32 + 0.002 * j as f32 + 0.01 * k as f32
-        }),
+        strata_grid::ndarray::Array3::from_shape_fn((nz, n, n), |(k, j, i)| poro(i, j, k)),
     )
     .expect("PORO");
-    let path = dir.join("dome.lod");
     let options = BuildOptions {
         tile_cells: 8,
         ..BuildOptions::default()
     };
-    build_file(&grid, Some("PORO"), &path, &options).expect("build");
-    LodFile::open(&path).expect("open")
+    build_file(&grid, Some("PORO"), path, &options).expect("build");
+    let file = LodFile::open(path).expect("open");
+    (grid, file)
+}
+
+/// A stack of four layers of 48 x 48 cells of 10 m on a dome, their porosity rising
+/// across the map and down the stack, in a hierarchy of 8-cell tiles.
+fn dome_hierarchy(dir: &std::path::Path) -> LodFile {
+    let n = 48;
+    let dome = |i: usize, j: usize| {
+        let (x, y) = (i as f32 / n as f32 - 0.5, j as f32 / n as f32 - 0.5);
+        1000.0 + 20.0 * (x * x + y * y)
+    };
+    let (_, file) = square_hierarchy(
+        &dir.join("dome.lod"),
+        (n, 4),
+        |i, j, level| dome(i, j) + 4.0 * level as f32,
+        |i, j, k| 0.1 + 0.004 * i as f32 + 0.002 * j as f32 + 0.01 * k as f32,
+    );
+    file
 }
 
 /// Seen obliquely, a stack shows its top surface and the others' edges: the cells'
