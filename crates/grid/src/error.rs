@@ -41,6 +41,11 @@ pub enum Error {
         keyword: String,
         message: String,
     },
+    /// The file holds something other than what was asked of it (binary data where a
+    /// text deck was expected, a strata hierarchy where a model was): the message says
+    /// what it is and what reads it.
+    #[error("{path}: {message}", path = .path.display())]
+    Content { path: PathBuf, message: String },
     /// A grid built in memory (generator, API caller) is inconsistent.
     #[error("invalid grid: {0}")]
     Invalid(String),

@@ -64,17 +64,100 @@ impl Format {
     }
 }
 
+/// The first bytes of a strata level-of-detail hierarchy (`strata lod build`), so that
+/// a hierarchy handed to a model reader is named as one.
+pub const HIERARCHY_MAGIC: [u8; 8] = *b"STRATLOD";
+
+/// Bytes looked at to tell a file's content; a text deck has no zero byte in them.
+const SNIFF_BYTES: usize = 4096;
+
+/// What a file's first bytes say it holds, whatever its name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Content {
+    /// A Fortran unformatted record of an Eclipse keyword (EGRID, INIT, UNRST, ...).
+    EclipseBinary,
+    /// A strata level-of-detail hierarchy.
+    Hierarchy,
+    /// Other binary data: byte `zero_at` is zero.
+    Binary { zero_at: usize },
+    /// Text, or empty.
+    Text,
+}
+
+impl Content {
+    /// Tells the content from the first bytes of a file (up to 4 KiB are looked at).
+    pub fn of(bytes: &[u8]) -> Content {
+        if bytes.starts_with(&HIERARCHY_MAGIC) {
+            Content::Hierarchy
+        } else if bytes.len() >= 24
+            && bytes[..4] == 16u32.to_be_bytes()
+            && bytes[4..12]
+                .iter()
+                .all(|b| b.is_ascii_graphic() || *b == b' ')
+            && bytes[16..20]
+                .try_into()
+                .is_ok_and(|code| eclbin::RecordKind::from_code(code).is_some())
+        {
+            Content::EclipseBinary
+        } else if let Some(zero_at) = bytes.iter().take(SNIFF_BYTES).position(|&b| b == 0) {
+            Content::Binary { zero_at }
+        } else {
+            Content::Text
+        }
+    }
+
+    /// Reads the first bytes of `path` and tells its content.
+    pub fn of_file(path: &Path) -> Result<Content> {
+        use std::io::Read;
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let mut head = Vec::with_capacity(SNIFF_BYTES);
+        file.take(SNIFF_BYTES as u64)
+            .read_to_end(&mut head)
+            .map_err(|e| Error::io(path, e))?;
+        Ok(Content::of(&head))
+    }
+
+    /// What the content is, for a message.
+    pub fn describe(self) -> String {
+        match self {
+            Content::EclipseBinary => "an Eclipse binary file (EGRID, INIT, UNRST ...)".into(),
+            Content::Hierarchy => {
+                "a strata level-of-detail hierarchy (written by `strata lod build`)".into()
+            }
+            Content::Binary { zero_at } => format!("binary data (byte {zero_at} is zero)"),
+            Content::Text => "text".into(),
+        }
+    }
+}
+
 /// Opens a model with the default options: geometry, properties and, for EGRID, the
 /// INIT and restart files beside it.
 pub fn open(path: &Path) -> Result<CornerPointGrid> {
     open_with(path, &ReadOptions::default())
 }
 
-/// Opens a model, choosing the reader from the file extension.
+/// Opens a model, choosing the reader from the file's first bytes (an Eclipse binary
+/// file is read as an EGRID whatever its name), else from its extension. A hierarchy
+/// or other binary data is refused with a message that says what the file is.
 pub fn open_with(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> {
-    match Format::from_path(path) {
-        Format::Egrid => eclbin::read_egrid(path, options),
-        Format::Grdecl => grdecl::read(path, options),
+    let content = Content::of_file(path)?;
+    match (content, Format::from_path(path)) {
+        (Content::Hierarchy, _) => Err(Error::Content {
+            path: path.to_path_buf(),
+            message: format!(
+                "{}, not a model: draw it with `strata lod view`, summarise it with `strata info`",
+                content.describe()
+            ),
+        }),
+        (Content::EclipseBinary, _) | (_, Format::Egrid) => eclbin::read_egrid(path, options),
+        (Content::Binary { .. }, _) => Err(Error::Content {
+            path: path.to_path_buf(),
+            message: format!(
+                "{}: neither a text deck (GRDECL, DATA) nor an Eclipse binary grid (EGRID)",
+                content.describe()
+            ),
+        }),
+        (Content::Text, Format::Grdecl) => grdecl::read(path, options),
     }
 }
 

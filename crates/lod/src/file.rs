@@ -35,12 +35,14 @@ use std::time::Instant;
 use bytemuck::{Pod, Zeroable};
 use memmap2::Mmap;
 use rayon::prelude::*;
-use strata_grid::{CellFace, CornerPointGrid, Face, SurfaceMesh, layer_surface, side_surfaces};
+use strata_grid::{
+    CellFace, Content, CornerPointGrid, Face, HIERARCHY_MAGIC, SurfaceMesh, layer_surface,
+    side_surfaces,
+};
 
 use crate::cover::cell_corners;
 use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result, build_layer};
 
-const MAGIC: [u8; 8] = *b"STRATLOD";
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
 /// faces.
@@ -396,7 +398,7 @@ impl Writer {
         let nodes = std::mem::take(&mut self.nodes);
         self.write(bytemuck::cast_slice(&nodes))?;
         let header = Header {
-            magic: MAGIC,
+            magic: HIERARCHY_MAGIC,
             version: VERSION,
             flags: if scalar_range.is_some() {
                 HAS_SCALARS
@@ -618,10 +620,17 @@ impl LodFile {
         let len = map.len() as u64;
         let head = map
             .get(..HEADER_BYTES)
-            .ok_or_else(|| bad(0, "shorter than the header"))?;
+            .ok_or_else(|| bad(0, "shorter than a hierarchy's header"))?;
         let header: Header = bytemuck::pod_read_unaligned(head);
-        if header.magic != MAGIC {
-            return Err(bad(0, "wrong magic bytes"));
+        if header.magic != HIERARCHY_MAGIC {
+            return Err(bad(
+                0,
+                &format!(
+                    "wrong magic bytes: this is {}, not a hierarchy; `strata lod build MODEL -o \
+                     FILE` makes one of a model",
+                    Content::of(&map).describe()
+                ),
+            ));
         }
         if header.version != VERSION {
             return Err(bad(

@@ -29,7 +29,7 @@ use super::block;
 use super::cells::{Cells, Region};
 use super::lex::{Kind, Lexer, Token, comment_at, is_keyword, is_sep, keyword, line_at, shown};
 use super::numbers::{self, Num, Spec, find_slash, parse_token};
-use crate::{CornerPointGrid, Dims, Error, MapAxes, ReadOptions, Result, Units};
+use crate::{Content, CornerPointGrid, Dims, Error, MapAxes, ReadOptions, Result, Units};
 
 /// The least number of values (array elements) a deck may allocate, whatever its
 /// size: room for a 8-million-cell block-centred model written in a few lines
@@ -255,6 +255,13 @@ impl Deck<'_> {
 
     /// Walks one file.
     fn run(&mut self, path: &Path, bytes: &[u8]) -> Result<()> {
+        let content = Content::of(bytes);
+        if content != Content::Text {
+            return Err(Error::Content {
+                path: path.to_path_buf(),
+                message: format!("{}, not a text deck", content.describe()),
+            });
+        }
         let src = Src { path, bytes };
         let mut lex = Lexer::new(bytes);
         let mut last = String::new();
