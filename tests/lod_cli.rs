@@ -699,3 +699,99 @@ fn the_hierarchy_view_frames_the_model_as_render_does() {
     }
     assert!(rendered.0.contains("76796 triangles"), "{}", rendered.0);
 }
+
+/// `strata info` summarises a hierarchy level by level, and each command that is
+/// handed the other kind of file (a hierarchy for a model, a model for a hierarchy)
+/// says what it was given.
+#[test]
+fn info_summarises_a_hierarchy_and_commands_name_the_other_kind_of_file() {
+    use strata::grid::{Face, layer_surface};
+
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let lod = dir.path().join("sample8.lod");
+    let lod_s = lod.to_str().expect("a UTF-8 path");
+    build_sample(lod_s, &["--tile", "8"]);
+    let out = strata(&["info", lod_s, "--json"]);
+    assert!(out.status.success(), "info: {}", stderr(&out));
+    let info: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+
+    let grid = strata::grid::open(&sample()).expect("the sample reads");
+    let d = grid.dims();
+    assert_eq!(info["dims"], serde_json::json!([d.nx, d.ny]));
+    assert_eq!(info["grid_layers"], d.nz);
+    assert_eq!(info["layer_surfaces"], d.nz + 1);
+    assert_eq!(info["tile_cells"], 8);
+    let full: usize = (0..d.nz)
+        .map(|k| (k, Face::Top))
+        .chain([(d.nz - 1, Face::Bottom)])
+        .map(|(k, face)| {
+            layer_surface(&grid, k, face, None, grid.display_origin())
+                .expect("a layer surface")
+                .triangle_count()
+        })
+        .sum();
+    let levels = info["levels"].as_array().expect("levels");
+    let number = |v: &serde_json::Value| v.as_f64().expect("a number");
+    eprintln!("{}", serde_json::to_string(levels).expect("JSON"));
+    assert!(
+        levels.len() >= 2,
+        "tiles of 8 over 36 x 24 cells make parents"
+    );
+    assert_eq!(number(&levels[0]["triangles"]) as usize, full);
+    // Leaves are the surfaces themselves; every level up has fewer triangles and no
+    // smaller an error; the top level is one root per surface.
+    assert_eq!(levels[0]["max_error"], serde_json::json!([0.0, 0.0]));
+    for pair in levels.windows(2) {
+        assert!(number(&pair[1]["triangles"]) < number(&pair[0]["triangles"]));
+        let errors = |level: &serde_json::Value| [0, 1].map(|a| number(&level["max_error"][a]));
+        let (below, above) = (errors(&pair[0]), errors(&pair[1]));
+        assert!(above[0] >= below[0] && above[1] >= below[1], "{pair:?}");
+    }
+    assert_eq!(levels.last().expect("a level")["nodes"], d.nz + 1);
+    let poro = grid.property("PORO").expect("the sample has PORO");
+    let active: Vec<f32> = poro
+        .indexed_iter()
+        .filter(|((k, j, i), v)| grid.is_active(*i, *j, *k) && v.is_finite())
+        .map(|(_, v)| *v)
+        .collect();
+    let range = [
+        active.iter().copied().fold(f32::INFINITY, f32::min),
+        active.iter().copied().fold(f32::NEG_INFINITY, f32::max),
+    ];
+    let stored = [0, 1].map(|a| number(&info["property_range"][a]) as f32);
+    assert_eq!(stored, range);
+    assert!(
+        number(&info["side_faces"]) > 0.0,
+        "the sample's faults have walls"
+    );
+
+    let text = strata(&["info", lod_s]);
+    let text = String::from_utf8_lossy(&text.stdout).into_owned();
+    assert_eq!(
+        text.lines()
+            .filter(|l| l.trim_start().starts_with("level "))
+            .count(),
+        levels.len(),
+        "{text}"
+    );
+
+    let refused = strata(&["render", lod_s, "-o", "never.png"]);
+    assert!(!refused.status.success());
+    let said = stderr(&refused);
+    assert!(
+        said.contains("level-of-detail hierarchy") && said.contains("strata lod view"),
+        "{said}"
+    );
+    let refused = strata(&["info", lod_s, "--cell", "1,1,1"]);
+    assert!(!refused.status.success());
+    assert!(
+        stderr(&refused).contains("--cell and --props need a model"),
+        "{}",
+        stderr(&refused)
+    );
+    let sample = sample();
+    let refused = strata(&["lod", "view", sample.to_str().expect("a UTF-8 path")]);
+    assert!(!refused.status.success());
+    let said = stderr(&refused);
+    assert!(said.contains("this is text, not a hierarchy"), "{said}");
+}
