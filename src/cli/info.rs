@@ -109,19 +109,16 @@ struct LevelInfo {
 
 fn hierarchy_info(path: &Path, json: bool) -> Result<()> {
     let file = LodFile::open(path)?;
-    let mut levels: Vec<LevelInfo> = Vec::new();
+    // By level, as stored: a damaged file's level numbers may be anything.
+    let mut levels = std::collections::BTreeMap::<u32, LevelInfo>::new();
     let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
     for n in file.nodes() {
-        let level = n.level as usize;
-        while levels.len() <= level {
-            levels.push(LevelInfo {
-                level: levels.len() as u32,
-                nodes: 0,
-                triangles: 0,
-                max_error: [0.0; 2],
-            });
-        }
-        let l = &mut levels[level];
+        let l = levels.entry(n.level).or_insert(LevelInfo {
+            level: n.level,
+            nodes: 0,
+            triangles: 0,
+            max_error: [0.0; 2],
+        });
         l.nodes += 1;
         l.triangles += u64::from(n.index_count / 3);
         l.max_error = [
@@ -149,7 +146,7 @@ fn hierarchy_info(path: &Path, json: bool) -> Result<()> {
         origin,
         min: std::array::from_fn(|a| origin[a] + f64::from(lo[a])),
         max: std::array::from_fn(|a| origin[a] + f64::from(hi[a])),
-        levels,
+        levels: levels.into_values().collect(),
         property_range: file.scalar_range().map(|(a, b)| [a, b]),
         side_faces: file.layers().iter().map(|l| u64::from(l.side_faces)).sum(),
     };
