@@ -95,6 +95,7 @@ enum BenchCommand {
 }
 
 fn main() -> ExitCode {
+    quiet_on_closed_pipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(args) => cli::info::run(&args),
@@ -119,6 +120,18 @@ fn main() -> ExitCode {
             eprintln!("strata: {}", message(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Ends the process quietly, as Unix tools do, when whoever reads its output stops
+/// (`strata info MODEL.lod | head`): Rust starts programs ignoring SIGPIPE, and the
+/// next `println!` then panics on the closed pipe.
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any other thread exists; SIG_DFL is
+    // a valid disposition for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
 }
 
