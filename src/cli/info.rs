@@ -155,7 +155,7 @@ fn hierarchy_info(path: &Path, json: bool) -> Result<()> {
         return Ok(());
     }
     println!("{} (level-of-detail hierarchy)", info.file);
-    println!("  size           {:.2} MB", info.bytes as f64 / 1e6);
+    println!("  size           {}", super::lod::size_text(info.bytes));
     println!(
         "  cells          {} x {} (i, j), {} grid layers, {} layer surfaces",
         info.dims[0], info.dims[1], info.grid_layers, info.layer_surfaces

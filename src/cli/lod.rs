@@ -137,7 +137,7 @@ fn build(args: &BuildArgs) -> Result<()> {
     drop(grid);
     eprintln!(
         "{}: {} layer surfaces, {} nodes in {} levels, {} triangles in, {} stored, {} side \
-         triangles, {:.2} GB; built in {:.1} s, {:.1} s in all; peak memory {}",
+         triangles, {}; built in {:.1} s, {:.1} s in all; peak memory {}",
         args.output.display(),
         report.layers,
         report.nodes,
@@ -145,15 +145,22 @@ fn build(args: &BuildArgs) -> Result<()> {
         report.input_triangles,
         report.stored_triangles,
         report.side_triangles,
-        report.bytes as f64 / 1e9,
+        size_text(report.bytes),
         report.seconds,
         start.elapsed().as_secs_f64(),
-        strata::bench::lod::peak_memory_kb().map_or("unknown".to_string(), |kb| format!(
-            "{:.2} GB",
-            kb as f64 / 1e6
-        )),
+        strata::bench::lod::peak_memory_kb()
+            .map_or("unknown".to_string(), |kb| size_text(kb * 1000)),
     );
     Ok(())
+}
+
+/// `bytes` in GB from a gigabyte up, else in MB.
+pub fn size_text(bytes: u64) -> String {
+    if bytes >= 1_000_000_000 {
+        format!("{:.2} GB", bytes as f64 / 1e9)
+    } else {
+        format!("{:.1} MB", bytes as f64 / 1e6)
+    }
 }
 
 fn view(args: &ViewArgs) -> Result<()> {
