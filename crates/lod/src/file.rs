@@ -682,8 +682,10 @@ impl LodFile {
         let cells_bytes = layer_cells_bytes(u64::from(header.dims[0]) * u64::from(header.dims[1]));
         for (l, layer) in out.layers().iter().enumerate() {
             let at = header.layers_offset + (LAYER_BYTES * l) as u64;
-            if u64::from(layer.root) + u64::from(layer.node_count) > u64::from(node_count) {
-                return Err(bad(at, "layer root outside the nodes"));
+            if layer.node_count == 0
+                || u64::from(layer.root) + u64::from(layer.node_count) > u64::from(node_count)
+            {
+                return Err(bad(at, "layer's nodes outside the node table"));
             }
             let cells_fit = if out.has_scalars() {
                 layer.cells_offset >= HEADER_BYTES as u64
@@ -712,7 +714,61 @@ impl LodFile {
                 return Err(bad(at, &format!("layer {l}: sides outside the file")));
             }
         }
+        out.check_tree()?;
         Ok(out)
+    }
+
+    /// Checks that each layer's nodes form its quadtree: the layer's own nodes, each
+    /// child one level below its parent and within its cells, leaves (and only
+    /// leaves) on level 0. Selection and the readers of a selection's cells rely on
+    /// it; a damaged file would otherwise draw a cell twice or not at all.
+    fn check_tree(&self) -> Result<()> {
+        let nodes = self.nodes();
+        let bad = |i: usize, message: String| Error::Format {
+            path: self.path.clone(),
+            at: self.header.nodes_offset + (NODE_BYTES * i) as u64,
+            message,
+        };
+        for (l, layer) in self.layers().iter().enumerate() {
+            let own = layer.root as usize..(layer.root + layer.node_count) as usize;
+            for i in own.clone() {
+                let n = &nodes[i];
+                if n.layer as usize != l {
+                    return Err(bad(
+                        i,
+                        format!("node {i} of layer {l} names layer {}", n.layer),
+                    ));
+                }
+                if (n.child_count == 0) != (n.level == 0) {
+                    return Err(bad(
+                        i,
+                        format!(
+                            "node {i}: level {} with {} children",
+                            n.level, n.child_count
+                        ),
+                    ));
+                }
+                let children = n.first_child as usize..(n.first_child + n.child_count) as usize;
+                for (c, child) in children.clone().zip(&nodes[children]) {
+                    let message = if !own.contains(&c) {
+                        format!("node {c}, a child of node {i}, is not one of layer {l}'s nodes")
+                    } else if child.level != n.level - 1 {
+                        format!(
+                            "node {c} is on level {}, its parent node {i} on level {}",
+                            child.level, n.level
+                        )
+                    } else if !(0..2).all(|a| {
+                        n.cells[a] <= child.cells[a] && child.cells[a + 2] <= n.cells[a + 2]
+                    }) {
+                        format!("node {c}'s cells are outside its parent node {i}'s")
+                    } else {
+                        continue;
+                    };
+                    return Err(bad(c, message));
+                }
+            }
+        }
+        Ok(())
     }
 
     pub fn path(&self) -> &Path {
@@ -1128,14 +1184,7 @@ impl LodFile {
                 continue;
             }
             if m.level > 0 {
-                for c in m.first_child..m.first_child.saturating_add(m.child_count) {
-                    if self.node(c)?.level >= m.level {
-                        return Err(Error::Option(format!(
-                            "node {c}, a child of node {k}, is not on a finer level"
-                        )));
-                    }
-                    stack.push(c);
-                }
+                stack.extend(m.first_child..m.first_child + m.child_count);
                 continue;
             }
             let vertices = self.vertices(k as usize);

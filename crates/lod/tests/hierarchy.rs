@@ -8,7 +8,8 @@ use std::collections::HashMap;
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
 
 use strata_lod::{
-    BuildOptions, LayerRecord, LayerTree, LodFile, NONE, Node, ViewPoint, build_file, build_layer,
+    BuildOptions, LayerRecord, LayerTree, LodFile, NONE, Node, NodeRecord, ViewPoint, build_file,
+    build_layer,
 };
 
 /// The full-resolution surface that layer surface `layer` of a file built from `grid`
@@ -480,6 +481,65 @@ fn damaged_files_are_errors() {
         err.contains("version 2") && err.contains("lod build"),
         "{err}"
     );
+}
+
+/// A tree that is not each layer's quadtree (a child on its parent's level, outside
+/// its parent's cells or in another layer, a leaf above level 0) is refused when the
+/// file opens, naming the node: selection would otherwise draw cells twice or never.
+#[test]
+fn a_damaged_tree_is_refused_when_the_file_opens() {
+    let (_dir, path, bytes) = small_saved_file();
+    let file = LodFile::open(&path).unwrap();
+    let nodes = file.nodes().to_vec();
+    assert!(file.layers().len() > 1);
+    // Where node `i`'s record is in the file (its bytes are unique: they hold the
+    // offset of its data).
+    let record = |i: usize| {
+        let want = bytemuck::bytes_of(&nodes[i]);
+        let at = bytes.windows(want.len()).position(|w| w == want).unwrap();
+        assert!(bytes[at + 1..].windows(want.len()).all(|w| w != want));
+        at
+    };
+    // A level-1 node away from the domain's corner, and its first child.
+    let parent = (0..nodes.len())
+        .find(|&i| nodes[i].level == 1 && nodes[i].cells[0] > 0 && nodes[i].layer == 0)
+        .unwrap();
+    let child = nodes[parent].first_child as usize;
+    let root = file.layers()[0].root as usize;
+    assert_eq!(nodes[root].child_count, 4);
+    let leaf_elsewhere = file.layers()[1].root as usize + 1;
+    let damage = |i: usize, edit: &dyn Fn(&mut NodeRecord)| {
+        let mut node = nodes[i];
+        edit(&mut node);
+        let mut damaged = bytes.clone();
+        let at = record(i);
+        damaged[at..at + std::mem::size_of_val(&node)].copy_from_slice(bytemuck::bytes_of(&node));
+        std::fs::write(&path, &damaged).unwrap();
+        LodFile::open(&path).err().map(|e| e.to_string())
+    };
+    let level = nodes[parent].level;
+    type Edit<'a> = &'a dyn Fn(&mut NodeRecord);
+    let cases: [(&str, Edit, usize); 5] = [
+        ("is on level 1, its parent", &|n| n.level = level, child),
+        ("outside its parent", &|n| n.cells[0] = 0, child),
+        ("names layer 1", &|n| n.layer = 1, child),
+        ("level 0 with 4 children", &|n| n.level = 0, root),
+        (
+            "is not one of layer 0's nodes",
+            &|n| n.first_child = leaf_elsewhere as u32,
+            parent,
+        ),
+    ];
+    for (want, edit, node) in cases {
+        let err = damage(node, edit).unwrap_or_else(|| panic!("{want}: the file opened"));
+        assert!(
+            err.contains(want) && err.contains("not a valid strata LOD file"),
+            "{err}"
+        );
+    }
+    // The file as built opens.
+    std::fs::write(&path, &bytes).unwrap();
+    assert!(LodFile::open(&path).is_ok());
 }
 
 #[test]
