@@ -66,15 +66,18 @@ fn a_hierarchy_or_other_binary_data_is_named_not_parsed() {
     assert!(said.contains("binary data (byte 16 is zero)"), "{said}");
     assert!(said.contains("neither a text deck"), "{said}");
 
-    // An INCLUDE of binary data is named by the included file's path.
+    // An INCLUDE of binary data is named by the included file's path, and the
+    // INCLUDE by its deck and line.
     let deck = dir.path().join("deck.grdecl");
-    std::fs::write(&deck, b"INCLUDE\n 'blob.grdecl' /\n").expect("written");
+    std::fs::write(&deck, b"-- top\nINCLUDE\n 'blob.grdecl' /\n").expect("written");
     let said = open_with(&deck, &ReadOptions::default())
         .map(|_| ())
         .expect_err("a binary include is refused")
         .to_string();
     assert!(said.contains("blob.grdecl"), "{said}");
     assert!(said.contains("not a text deck"), "{said}");
+    let head = format!("{}:2: keyword INCLUDE: ", deck.display());
+    assert!(said.starts_with(&head), "{said}");
 }
 
 #[test]
