@@ -28,3 +28,82 @@ fn a_closed_output_pipe_ends_strata_quietly() {
     );
     assert!(said.is_empty(), "{said}");
 }
+
+/// A deck whose property INCLUDE is missing (as a `.DATA` deck shipped without its
+/// property files): refused at that INCLUDE line, and read with `--grid-only` by
+/// `render`, `info` and `lod build`, each naming the skipped file.
+#[test]
+fn grid_only_reads_a_deck_whose_property_include_is_missing() {
+    use std::process::Command;
+
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let sample = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
+    let deck = dir.path().join("model.grdecl");
+    std::fs::write(
+        &deck,
+        format!(
+            "INCLUDE\n '{}' /\nINCLUDE\n 'missing_poro.inc' /\n",
+            sample.display()
+        ),
+    )
+    .expect("written");
+    let deck = deck.to_str().expect("a UTF-8 path");
+    let png = dir.path().join("model.png");
+    let lod = dir.path().join("model.lod");
+    let strata = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args(args)
+            .output()
+            .expect("the strata binary runs");
+        let said = String::from_utf8_lossy(&out.stderr).into_owned();
+        (
+            out.status.success(),
+            said,
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+        )
+    };
+    let (ok, said, _) = strata(&["info", deck]);
+    assert!(!ok, "{said}");
+    assert!(
+        said.contains("model.grdecl:3: keyword INCLUDE: cannot read"),
+        "{said}"
+    );
+
+    let skipped = "missing_poro.inc' skipped";
+    let (ok, _, printed) = strata(&["info", deck, "--grid-only"]);
+    assert!(ok && printed.contains("36 x 24 x 6"), "{printed}");
+    assert!(printed.contains(skipped), "{printed}");
+
+    let png_path = png.to_str().expect("a UTF-8 path");
+    let (ok, said, _) = strata(&[
+        "render",
+        deck,
+        "--grid-only",
+        "--size",
+        "240x180",
+        "-o",
+        png_path,
+    ]);
+    assert!(
+        ok && said.contains(&format!("warning: {deck}:3: INCLUDE")),
+        "{said}"
+    );
+    assert!(said.contains(skipped), "{said}");
+    // The grid is drawn: most of the frame's middle differs from its corner.
+    let image = strata::render::image::open(&png).expect("a PNG").to_rgba8();
+    let corner = *image.get_pixel(0, 0);
+    let middle = (60..180)
+        .flat_map(|x| (45..135).map(move |y| (x, y)))
+        .filter(|&(x, y)| *image.get_pixel(x, y) != corner)
+        .count();
+    assert!(
+        middle > 120 * 90 / 2,
+        "{middle} of the middle's pixels drawn"
+    );
+
+    let lod_path = lod.to_str().expect("a UTF-8 path");
+    let (ok, said, _) = strata(&["lod", "build", deck, "--grid-only", "-o", lod_path]);
+    assert!(ok && said.contains(skipped), "{said}");
+    let (ok, said, _) = strata(&["info", lod_path, "--grid-only"]);
+    assert!(!ok && said.contains("--grid-only need a model"), "{said}");
+}

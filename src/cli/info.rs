@@ -9,6 +9,8 @@ use strata::grid::ndarray::Array3;
 use strata::grid::{BoundingBox, Content, CornerPointGrid, Dims, MapAxes, Units};
 use strata::lod::LodFile;
 
+use super::ReadArgs;
+
 #[derive(Args)]
 pub struct InfoArgs {
     /// Model file (.grdecl, .DATA, .EGRID), or a hierarchy written by `strata lod
@@ -21,9 +23,8 @@ pub struct InfoArgs {
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
-    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
-    #[arg(long = "props", value_name = "FILE")]
-    props: Vec<PathBuf>,
+    #[command(flatten)]
+    read: ReadArgs,
 }
 
 fn parse_cell(s: &str) -> Result<[usize; 3], String> {
@@ -194,16 +195,16 @@ pub fn run(args: &InfoArgs) -> Result<()> {
     if let Some(path) = &args.model
         && Content::of_file(path)? == Content::Hierarchy
     {
-        if args.cell.is_some() || !args.props.is_empty() {
+        if args.cell.is_some() || args.read.given() {
             bail!(
                 "{}: a level-of-detail hierarchy has no cells to show or properties to add; \
-                 --cell and --props need a model",
+                 --cell, --props and --grid-only need a model",
                 path.display()
             );
         }
         return hierarchy_info(path, args.json);
     }
-    let (path, grid) = super::open_model(args.model.as_deref(), &args.props)?;
+    let (path, grid) = super::open_model(args.model.as_deref(), &args.read)?;
     let file = path.display().to_string();
     match args.cell {
         Some(cell) => cell_info(&grid, file, cell, args.json),

@@ -17,6 +17,7 @@ use strata::render::{
 };
 use strata::scene::{colour_range, corner_field};
 
+use super::ReadArgs;
 use super::style::{
     FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso_spacing,
 };
@@ -49,19 +50,14 @@ pub struct BuildArgs {
     /// Vertical exaggeration the hierarchy will be viewed with (weighs vertical error).
     #[arg(long, default_value_t = 5.0)]
     zscale: f32,
-    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
-    #[arg(long = "props", value_name = "FILE")]
-    props: Vec<PathBuf>,
+    #[command(flatten)]
+    read: ReadArgs,
     /// Property stored as the vertices' scalar (default: PORO when the model has it).
     #[arg(long)]
     property: Option<String>,
     /// Store no scalar.
     #[arg(long, conflicts_with = "property")]
     no_property: bool,
-    /// Read the grid only (e.g. decks whose property INCLUDE files are missing); the
-    /// decks given with --props are still added.
-    #[arg(long)]
-    grid_only: bool,
 }
 
 #[derive(Args)]
@@ -98,13 +94,9 @@ pub fn run(command: &LodCommand) -> Result<()> {
 
 fn build(args: &BuildArgs) -> Result<()> {
     let start = Instant::now();
-    let options = strata::grid::ReadOptions {
-        grid_only: args.grid_only,
-        ..strata::grid::ReadOptions::default()
-    };
-    let mut grid = strata::grid::open_with(&args.model, &options)
+    let (_, grid) = super::open_model(Some(&args.model), &args.read)
         .with_context(|| format!("reading {}", args.model.display()))?;
-    super::add_properties(&mut grid, &args.model, &args.props)?;
+    super::warn_skipped(&grid);
     let read = start.elapsed().as_secs_f64();
     let property = if args.no_property {
         None

@@ -3,7 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use strata::grid::CornerPointGrid;
+use clap::Args;
+use strata::grid::{CornerPointGrid, ReadOptions};
 
 pub mod info;
 pub mod lod;
@@ -12,18 +13,51 @@ pub mod style;
 pub mod synth;
 pub mod terrain;
 
-/// Opens `model` (the sample in `data/` when `None`) and adds the per-cell arrays of
-/// each property deck in `props` (e.g. the PORO GRDECL that goes with an EGRID).
-pub fn open_model(model: Option<&Path>, props: &[PathBuf]) -> Result<(PathBuf, CornerPointGrid)> {
+/// How the commands that read a model read it.
+#[derive(Args)]
+pub struct ReadArgs {
+    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
+    #[arg(long = "props", value_name = "FILE")]
+    pub props: Vec<PathBuf>,
+    /// Read the grid only: no properties or results, and a deck goes on past INCLUDE
+    /// files that are missing (e.g. a .DATA deck shipped without its property files),
+    /// each named in a warning; the decks given with --props are still added.
+    #[arg(long)]
+    pub grid_only: bool,
+}
+
+impl ReadArgs {
+    /// Whether any option asks for more than the model's own file.
+    pub fn given(&self) -> bool {
+        self.grid_only || !self.props.is_empty()
+    }
+}
+
+/// Opens `model` (the sample in `data/` when `None`) as `read` says, and adds the
+/// per-cell arrays of each of its property decks (e.g. the PORO GRDECL that goes with
+/// an EGRID).
+pub fn open_model(model: Option<&Path>, read: &ReadArgs) -> Result<(PathBuf, CornerPointGrid)> {
     let path = model.map_or_else(crate::sample_model, Path::to_path_buf);
-    let mut grid = strata::grid::open(&path)?;
-    add_properties(&mut grid, &path, props)?;
+    let options = ReadOptions {
+        grid_only: read.grid_only,
+        ..ReadOptions::default()
+    };
+    let mut grid = strata::grid::open_with(&path, &options)?;
+    add_properties(&mut grid, &path, &read.props)?;
     Ok((path, grid))
+}
+
+/// Prints what reading `grid` skipped (missing INCLUDE files, unreadable results, local
+/// grids) on standard error, for the commands whose output is a picture or a file.
+pub fn warn_skipped(grid: &CornerPointGrid) {
+    for warning in &grid.warnings {
+        eprintln!("strata: warning: {warning}");
+    }
 }
 
 /// Adds to `grid`, read from `path`, the per-cell arrays of each property deck in
 /// `props`.
-pub fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) -> Result<()> {
+fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) -> Result<()> {
     for deck in props {
         strata::grid::grdecl::read_properties(grid, deck).with_context(|| {
             format!(

@@ -12,15 +12,15 @@ use strata::render::{
 };
 use strata::scene::{SceneOptions, build};
 
+use super::ReadArgs;
 use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso};
 
 #[derive(Args)]
 pub struct RenderArgs {
     /// Model file (.grdecl, .DATA, .EGRID); the sample in data/ when omitted.
     model: Option<PathBuf>,
-    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
-    #[arg(long = "props", value_name = "FILE")]
-    props: Vec<PathBuf>,
+    #[command(flatten)]
+    read: ReadArgs,
     #[command(flatten)]
     drawn: LayerArgs,
     #[command(flatten)]
@@ -83,7 +83,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(_) => decimated_wire(args.style.wire, "--lod")?,
         None => args.style.wire,
     };
-    let (_, grid) = super::open_model(args.model.as_deref(), &args.props)?;
+    let (_, grid) = super::open_model(args.model.as_deref(), &args.read)?;
+    super::warn_skipped(&grid);
     let layers = args.drawn.range(grid.dims().nz)?;
     let property = if args.no_property {
         None
