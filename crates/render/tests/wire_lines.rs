@@ -346,3 +346,114 @@ fn dense_grids_do_not_saturate() {
         failures.join("\n")
     );
 }
+
+/// Largest amplitude (in coverage) of the frequencies of `row` between `from` and `to`
+/// cycles per pixel, the row detrended and Hann-windowed.
+fn low_band_amplitude(row: &[f32], from: f64, to: f64) -> f64 {
+    let n = row.len();
+    let mean = row.iter().map(|&c| f64::from(c)).sum::<f64>() / n as f64;
+    let window: Vec<f64> = (0..n)
+        .map(|x| {
+            let w = 0.5 - 0.5 * (std::f64::consts::TAU * x as f64 / (n - 1) as f64).cos();
+            (f64::from(row[x]) - mean) * w
+        })
+        .collect();
+    // The Hann window's mean is 1/2: amplitudes are scaled back by 2 / (n / 2).
+    let scale = 4.0 / n as f64;
+    (1..=n / 2)
+        .map(|k| k as f64 / n as f64)
+        .filter(|f| (from..=to).contains(f))
+        .map(|f| {
+            let (re, im) = window
+                .iter()
+                .enumerate()
+                .fold((0.0, 0.0), |(re, im), (x, v)| {
+                    let phase = std::f64::consts::TAU * f * x as f64;
+                    (re + v * phase.cos(), im - v * phase.sin())
+                });
+            (re * re + im * im).sqrt() * scale
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn dense_lines_do_not_alias_into_moire() {
+    // Lines 2 to 6 px apart hold harmonics above the pixels' Nyquist frequency, which a
+    // one-pixel box lets through as moire where the lines cross the pixel rows slanted:
+    // beats much longer than a cell along each row. Rows of a tilted strip of one dense
+    // line family (each row at one depth, so one period) are searched for frequencies
+    // below 0.6 / P (P the lines' period along the row in px): the lines have none
+    // there. Lines about vertical on screen, and crossing the rows at about 30°.
+    let mut r = renderer();
+    let be = backend(&r);
+    let mut failures = Vec::new();
+    for angle in [0.0, 30.0] {
+        let square = PlaneGrid::square(400, 1.0, angle);
+        let strip = PlaneGrid {
+            nj: 1,
+            dv: square.dv * 400.0,
+            ..square
+        };
+        let drawable = r
+            .prepare(&strip.mesh(), WireMode::Global)
+            .unwrap_or_else(|e| panic!("prepare: {e}"));
+        let view = grid_view(&strip, grid_camera(&strip, 70.0, 230.0), 512);
+        let proj = Projector::new(&view);
+        // Where line `a` crosses pixel row `y` (its ends projected: it stays straight).
+        let crossing = |a: f32, y: f32| {
+            let (p, q) = (
+                proj.to_px(strip.point(a, 0.0)),
+                proj.to_px(strip.point(a, 1.0)),
+            );
+            p.x + (q.x - p.x) * (y - p.y) / (q.y - p.y)
+        };
+        // The lines' period along row `y`, where the strip's middle lines cross it.
+        let (top, bottom) = (
+            proj.to_px(strip.point(200.0, 0.0)).y,
+            proj.to_px(strip.point(200.0, 1.0)).y,
+        );
+        let period_at = |y: f32| {
+            (top.min(bottom)..=top.max(bottom))
+                .contains(&y)
+                .then(|| (crossing(201.0, y) - crossing(199.0, y)).abs() / 2.0)
+        };
+        for coverage in COVERAGES {
+            let frame = render_frame(&mut r, &[drawable.as_ref()], &view, 1.5, coverage);
+            let mut amplitudes = Vec::new();
+            for y in 0..frame.height {
+                let period = period_at(y as f32 + 0.5).filter(|p| (2.0..=6.0).contains(p));
+                let Some(period) = period else {
+                    continue;
+                };
+                let row: Vec<f32> = (0..frame.width)
+                    .filter_map(|x| frame.at(x as i64, y as i64).filter(|p| p.1).map(|p| p.0))
+                    .collect();
+                // The strip's outline lines and their anti-aliased edges are left out.
+                let inner = &row[row.len().min(6)..row.len().saturating_sub(6)];
+                if inner.len() < 128 {
+                    continue;
+                }
+                let from = 3.0 / inner.len() as f64;
+                amplitudes.push(low_band_amplitude(inner, from, 0.6 / f64::from(period)));
+            }
+            assert!(amplitudes.len() >= 40, "{} rows measured", amplitudes.len());
+            amplitudes.sort_by(f64::total_cmp);
+            let median = amplitudes[amplitudes.len() / 2];
+            let max = amplitudes[amplitudes.len() - 1];
+            eprintln!(
+                "moire ({be}) lines at {angle}°, {coverage:?}: {} rows, low-band amplitude median {median:.4}, max {max:.4}",
+                amplitudes.len()
+            );
+            if median > 0.008 || max > 0.05 {
+                failures.push(format!(
+                    "lines at {angle}°, {coverage:?}: median {median:.4}, max {max:.4}"
+                ));
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "moire ({be}):\n{}",
+        failures.join("\n")
+    );
+}

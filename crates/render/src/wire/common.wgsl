@@ -63,10 +63,28 @@ fn thickness_factor(a: f32) -> f32 {
     return 1.0 - 0.65 * a;
 }
 
-// Exact box-filtered coverage of a pixel by the line of the nearest odd value of x.
-// `grad` is |grad x| in coordinate units per pixel: the distance in pixels is the
-// distance in units over it, and the half width is capped to `cap` units so that
-// lines never cover more than that fraction of small cells (no saturation).
+// Length of the lines of period `period` (starting at 0, `width` long) in [0, t].
+fn periodic_lines(t: f32, period: f32, width: f32) -> f32 {
+    return floor(t / period) * width + min(t - period * floor(t / period), width);
+}
+
+// Mean coverage of a box `box_width` px wide centred `d` px from the nearest of the
+// lines `period` px apart and `2 half` px wide: every line the box reaches counts.
+fn box_lines(d: f32, half: f32, period: f32, box_width: f32) -> f32 {
+    // The box's start, measured from the start of the nearest line's period.
+    let lo = d + half - 0.5 * box_width + period;
+    let covered = periodic_lines(lo + box_width, period, 2.0 * half) - periodic_lines(lo, period, 2.0 * half);
+    return clamp(covered / box_width, 0.0, 1.0);
+}
+
+// Coverage of a pixel by the lines at the odd values of x. `grad` is |grad x| in
+// coordinate units per pixel: the distance in pixels is the distance in units over
+// it, and the half width is capped to `cap` units so that lines never cover more than
+// that fraction of small cells (no saturation). The filter is a one-pixel box where
+// cells (the lines' period P) are 8 px or more. Below, lines slanted across the pixel
+// rows alias into moire through it, so it turns into a two-pixel box by P = 4 (a blend
+// of the two: both, and so the blend, cancel the integer frequencies that alias onto
+// the mean), and into a box of P itself below 2 px (the flat mean).
 fn coverage_analytic(x: f32, grad: f32, a: f32) -> f32 {
     let g = max(grad, 1.0e-12);
     var half = 0.5 * frame.line.x;
@@ -77,8 +95,11 @@ fn coverage_analytic(x: f32, grad: f32, a: f32) -> f32 {
         intensity = intensity_factor(a);
     }
     half = min(half, frame.line.y / g);
-    let d = abs(x - (2.0 * floor(0.5 * x) + 1.0)) / g;
-    return clamp(min(d + 0.5, half) - max(d - 0.5, -half), 0.0, 1.0) * intensity;
+    let period = 2.0 / g;
+    let d = (x - (2.0 * floor(0.5 * x) + 1.0)) / g;
+    let narrow = box_lines(d, half, period, min(period, 1.0));
+    let wide = box_lines(d, half, period, min(period, 2.0));
+    return mix(narrow, wide, clamp(2.0 - 0.25 * period, 0.0, 1.0)) * intensity;
 }
 
 // The same coverage from the mip-mapped wireframe texture (wire_texture.rs: each level
