@@ -780,7 +780,7 @@ fn info_summarises_a_hierarchy_and_commands_name_the_other_kind_of_file() {
     let refused = strata(&["info", lod_s, "--cell", "1,1,1"]);
     assert!(!refused.status.success());
     assert!(
-        stderr(&refused).contains("--cell and --props need a model"),
+        stderr(&refused).contains("--cell, --props and --grid-only need a model"),
         "{}",
         stderr(&refused)
     );
