@@ -561,22 +561,15 @@ impl Deck<'_> {
         // process truncating the file while we read it is the accepted risk of every
         // memory-mapped reader.
         let map = unsafe { Mmap::map(&file) }.map_err(|e| Error::io(&path, e))?;
-        // Checked here as well as in `run`, so that the error names this INCLUDE.
-        let content = Content::of(&map);
-        if content != Content::Text {
-            return Err(src.err(
-                tok.at,
-                KW,
-                format!(
-                    "'{}' is {}, not a text deck",
-                    path.display(),
-                    content.describe()
-                ),
-            ));
-        }
         self.bytes_seen = self.bytes_seen.saturating_add(map.len());
         self.open.push(id);
-        let result = self.run(&path, &map);
+        // A file that is not a text deck is named at this INCLUDE (`run` tells).
+        let result = self.run(&path, &map).map_err(|e| match e {
+            Error::Content { message, .. } => {
+                src.err(tok.at, KW, format!("'{}' is {message}", path.display()))
+            }
+            e => e,
+        });
         self.open.pop();
         result
     }
