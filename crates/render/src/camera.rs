@@ -111,6 +111,32 @@ impl Camera {
         c
     }
 
+    /// The same view moved sideways so that `point` (unscaled display frame) is at the
+    /// picture's centre: direction and distance stay, so `--view`'s distance factor
+    /// still zooms, now towards `point` instead of the middle of the model.
+    pub fn centred_on(self, point: Vec3) -> Camera {
+        let offset = point * Vec3::new(1.0, 1.0, self.z_scale) - self.target;
+        Camera {
+            eye: self.eye + offset,
+            target: self.target + offset,
+            ..self
+        }
+    }
+
+    /// The planes that bound what a picture of `aspect` (width / height) shows, in the
+    /// display frame *after* vertical exaggeration, as `(a, b, c, d)` with
+    /// `a x + b y + c z + d >= 0` on the inner side: the four sides of the picture and
+    /// the plane through the eye across the view. Something wholly outside one of
+    /// them is not in the picture.
+    pub fn frustum(&self, aspect: f32) -> [[f32; 4]; 5] {
+        // Rows of the clip transform (Gribb & Hartmann): a point is inside where
+        // -w <= x <= w, -w <= y <= w and w >= 0; near and far do not matter here.
+        let clip = self.projection(aspect, 1.0, 2.0) * self.view();
+        let row = |r: usize| clip.row(r);
+        let w = row(3);
+        [w + row(0), w - row(0), w + row(1), w - row(1), w].map(|p| p.to_array())
+    }
+
     /// The world transform applied before viewing: vertical exaggeration.
     pub fn model(&self) -> Mat4 {
         Mat4::from_scale(Vec3::new(1.0, 1.0, self.z_scale))
@@ -170,6 +196,40 @@ mod tests {
             .view_proj(1.0, 1.0, 20.0)
             .project_point3(Vec3::new(0.0, 1.0, 0.0));
         assert!(ndc.y > 0.0 && ndc.x.abs() < 1e-4);
+    }
+
+    #[test]
+    fn a_centred_camera_keeps_its_view_and_shows_the_point_in_the_middle() {
+        let (lo, hi) = (Vec3::new(0.0, 0.0, -80.0), Vec3::new(2000.0, 1000.0, 0.0));
+        let whole = Camera::fit(lo, hi, 5.0, 1.5, (30.0, 35.0), 0.1);
+        let point = Vec3::new(1700.0, 150.0, -20.0);
+        let c = whole.centred_on(point);
+        let ndc = c.view_proj(1.5, 1.0, 1e5).project_point3(point);
+        assert!(ndc.x.abs() < 1e-4 && ndc.y.abs() < 1e-4, "{ndc}");
+        assert!(((c.eye - c.target) - (whole.eye - whole.target)).length() < 1e-3);
+        // The planes hold the point and the centre of the view, not what is behind the
+        // eye or off to one side.
+        let inside = |p: Vec3| {
+            let p = p * Vec3::new(1.0, 1.0, 5.0);
+            c.frustum(1.5)
+                .iter()
+                .all(|[a, b, e, d]| a * p.x + b * p.y + e * p.z + d >= 0.0)
+        };
+        assert!(inside(point));
+        let behind = 2.0 * c.eye - c.target;
+        assert!(!inside(Vec3::new(behind.x, behind.y, behind.z / 5.0)));
+        assert!(
+            !inside(lo) || !inside(hi),
+            "a close-up shows the whole model"
+        );
+        let right = (c.target - c.eye).cross(c.up).normalize();
+        let distance = (c.target - c.eye).length();
+        let aside = |k: f32| {
+            let p = c.target + right * k * distance;
+            Vec3::new(p.x, p.y, p.z / 5.0)
+        };
+        // 35 degrees of height at 1.5 wide: half the width is tan(17.5) * 1.5 = 0.47.
+        assert!(inside(aside(0.45)) && !inside(aside(0.5)));
     }
 
     #[test]
