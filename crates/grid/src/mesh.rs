@@ -197,6 +197,62 @@ impl SurfaceMesh {
         out
     }
 
+    /// The centre of cell `(i, j)`'s face on a surface of cell faces carrying the
+    /// global coordinates (a layer surface at full resolution): the mean of the
+    /// corners of the triangles whose texture coordinates lie in that cell. `None`
+    /// where the surface has no face of the cell.
+    pub fn cell_centre(&self, [i, j]: [u32; 2]) -> Option<[f32; 3]> {
+        let (u0, v0) = ((2 * i + 1) as f32, (2 * j + 1) as f32);
+        let inside = |c: f32, lo: f32| c > lo && c < lo + 2.0;
+        let mut corners: Vec<u32> = Vec::with_capacity(4);
+        for tri in &self.triangles {
+            let centroid = |a: usize| {
+                tri.iter()
+                    .map(|&v| self.texcoords[v as usize][a])
+                    .sum::<f32>()
+                    / 3.0
+            };
+            if inside(centroid(0), u0) && inside(centroid(1), v0) {
+                for &v in tri {
+                    if !corners.contains(&v) {
+                        corners.push(v);
+                    }
+                }
+            }
+        }
+        if corners.is_empty() {
+            return None;
+        }
+        let n = corners.len() as f32;
+        Some(std::array::from_fn(|a| {
+            corners
+                .iter()
+                .map(|&v| self.positions[v as usize][a])
+                .sum::<f32>()
+                / n
+        }))
+    }
+
+    /// A mesh of the same vertices with only the cell faces that `keep` keeps, and
+    /// their triangles (triangles of no cell face go).
+    pub fn cell_faces_where(&self, mut keep: impl FnMut(&CellFace) -> bool) -> SurfaceMesh {
+        let mut out = SurfaceMesh {
+            triangles: Vec::new(),
+            cell_faces: Vec::new(),
+            ..self.clone()
+        };
+        for face in self.cell_faces.iter().filter(|f| keep(f)) {
+            let t0 = out.triangles.len() as u32;
+            out.triangles
+                .extend(face.triangles.map(|t| self.triangles[t as usize]));
+            out.cell_faces.push(CellFace {
+                triangles: [t0, t0 + 1],
+                ..*face
+            });
+        }
+        out
+    }
+
     /// Axis-aligned bounds of the positions (relative to `origin`); `None` when empty.
     pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let first = *self.positions.first()?;
@@ -261,6 +317,19 @@ mod tests {
         );
         assert_eq!(m.texcoords[5], [3.0, 3.0]);
         assert!(m.edge_mask().iter().all(|&e| e.count_ones() == 2));
+    }
+
+    #[test]
+    fn a_cells_centre_and_a_choice_of_faces() {
+        let m = SurfaceMesh::structured(3, 2, |i, j| [i as f32, 2.0 * j as f32, (i * j) as f32]);
+        // Corners (1, 1), (2, 1), (1, 2), (2, 2): z 1, 2, 2, 4.
+        assert_eq!(m.cell_centre([1, 1]), Some([1.5, 3.0, 2.25]));
+        assert_eq!(m.cell_centre([3, 0]), None);
+        let column = m.cell_faces_where(|f| f.cell[0] == 1);
+        column.validate().unwrap();
+        assert_eq!((column.triangle_count(), column.cell_faces.len()), (4, 2));
+        assert_eq!(column.cell_centre([1, 0]), m.cell_centre([1, 0]));
+        assert_eq!(column.cell_centre([0, 0]), None);
     }
 
     #[test]
