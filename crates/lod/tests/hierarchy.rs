@@ -188,6 +188,82 @@ fn neighbours_at_every_pair_of_levels_share_their_borders() {
 }
 
 #[test]
+fn a_view_frustum_leaves_out_only_what_it_does_not_show() {
+    let grid = faulted_grid(40, 30);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.lod");
+    build_file(&grid, None, &path, &options(8)).unwrap();
+    let file = LodFile::open(&path).unwrap();
+    let nodes = file.nodes();
+    let (lo, hi) = (nodes[0].min, nodes[0].max);
+    let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    // The quarter x <= mid x, y <= mid y of the model, seen from close over its corner.
+    let always = [0.0, 0.0, 0.0, 1.0];
+    let quarter = [
+        [-1.0, 0.0, 0.0, mid[0]],
+        [0.0, -1.0, 0.0, mid[1]],
+        always,
+        always,
+        always,
+    ];
+    let whole = ViewPoint {
+        eye: [lo[0], lo[1], hi[2] * 5.0 + 3000.0],
+        z_scale: 5.0,
+        fov_y_deg: 35.0,
+        height_px: 800,
+        frustum: None,
+    };
+    let seen = ViewPoint {
+        frustum: Some(quarter),
+        ..whole
+    };
+    let all = file.select(&whole, 4.0);
+    let chosen = file.select(&seen, 4.0);
+    let triangles =
+        |s: &[u32]| -> u32 { s.iter().map(|&i| nodes[i as usize].index_count / 3).sum() };
+    assert!(
+        triangles(&chosen) < triangles(&all) * 3 / 4,
+        "{} of {} triangles",
+        triangles(&chosen),
+        triangles(&all)
+    );
+    let reaches = |n: &NodeRecord| n.min[0] <= mid[0] && n.min[1] <= mid[1];
+    // Every cell of every leaf in the quarter is drawn once, by a node that reaches it.
+    for (l, layer) in file.layers().iter().enumerate() {
+        let mut cells = vec![0u8; 40 * 30];
+        for &i in &chosen {
+            let n = &nodes[i as usize];
+            assert!(reaches(n), "node {i} is outside the view");
+            if n.layer as usize == l {
+                for j in n.cells[1]..n.cells[3] {
+                    for i in n.cells[0]..n.cells[2] {
+                        cells[(j * 40 + i) as usize] += 1;
+                    }
+                }
+            }
+        }
+        assert!(
+            cells.iter().all(|&c| c <= 1),
+            "layer {l}: a cell drawn twice"
+        );
+        let leaves = (layer.root..layer.root + layer.node_count)
+            .map(|i| &nodes[i as usize])
+            .filter(|n| n.child_count == 0 && reaches(n));
+        for n in leaves {
+            for j in n.cells[1]..n.cells[3] {
+                for i in n.cells[0]..n.cells[2] {
+                    assert_eq!(
+                        cells[(j * 40 + i) as usize],
+                        1,
+                        "layer {l}: cell ({i}, {j})"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
 fn file_round_trip_and_selection() {
     let grid = faulted_grid(40, 30);
     let dir = tempfile::tempdir().unwrap();
@@ -241,6 +317,7 @@ fn file_round_trip_and_selection() {
         z_scale: 5.0,
         fov_y_deg: 35.0,
         height_px: 800,
+        frustum: None,
     };
     let roots: Vec<u32> = file.layers().iter().map(|l| l.root).collect();
     assert_eq!(file.select(&far, 1.0), roots);
@@ -652,6 +729,7 @@ fn random_damage_never_panics() {
         z_scale: 5.0,
         fov_y_deg: 35.0,
         height_px: 800,
+        frustum: None,
     };
     let (mut opened, mut refused) = (0, 0);
     for round in 0..1000 {
