@@ -4,7 +4,9 @@
 use std::ops::Range;
 
 use anyhow::{Result, bail};
-use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surfaces, side_surfaces};
+use strata_grid::{
+    CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces, side_surfaces,
+};
 
 /// Which surfaces of a model to draw.
 #[derive(Clone, Debug, Default)]
@@ -39,7 +41,7 @@ pub fn build(
     let property = options.property.as_deref();
     let mut mesh = layer_surfaces(grid, layers.clone(), Face::Top, property, origin)?;
     // The bottom of the deepest layer closes the stack.
-    mesh.append(&strata_grid::layer_surface(
+    mesh.append(&layer_surface(
         grid,
         layers.end - 1,
         Face::Bottom,
@@ -61,6 +63,30 @@ pub fn build(
         mesh = mesh.with_cell_values();
     }
     Ok((mesh, range))
+}
+
+/// Where `--centre` looks: the centre of cell `(i, j)`'s top face on the first of
+/// `layers` (all when `None`) whose surface has it, relative to `origin`.
+pub fn column_top(
+    grid: &CornerPointGrid,
+    layers: Option<Range<usize>>,
+    [i, j]: [u32; 2],
+    origin: [f64; 3],
+) -> Result<[f32; 3]> {
+    let Dims { nx, ny, nz } = grid.dims();
+    let named = format!("--centre {},{}", i + 1, j + 1);
+    if i as usize >= nx || j as usize >= ny {
+        bail!("{named}: the model has {nx} x {ny} columns of cells");
+    }
+    for k in layers.unwrap_or(0..nz) {
+        if grid.is_active(i as usize, j as usize, k) {
+            let surface = layer_surface(grid, k, Face::Top, None, origin)?;
+            if let Some(centre) = surface.cell_centre([i, j]) {
+                return Ok(centre);
+            }
+        }
+    }
+    bail!("{named}: no drawn layer has a face of that cell")
 }
 
 /// The range of the finite `values` that a colour map spans, one unit wide when they

@@ -790,3 +790,113 @@ fn info_summarises_a_hierarchy_and_commands_name_the_other_kind_of_file() {
     let said = stderr(&refused);
     assert!(said.contains("this is text, not a hierarchy"), "{said}");
 }
+
+#[test]
+fn a_close_up_centres_its_cell_and_the_hierarchy_draws_only_what_it_shows() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    // MARK is 1 on the column of cells (28, 18) (1-based), 0 elsewhere.
+    let d = strata::grid::open(&sample())
+        .expect("the sample reads")
+        .dims();
+    let values: Vec<&str> = (0..d.nx * d.ny * d.nz)
+        .map(|c| {
+            let (i, j) = (c % d.nx, c / d.nx % d.ny);
+            if (i, j) == (27, 17) { "1" } else { "0" }
+        })
+        .collect();
+    let deck = dir.path().join("mark.grdecl");
+    std::fs::write(&deck, format!("MARK\n{}\n/\n", values.join("\n"))).expect("write the deck");
+    let deck = deck.to_str().expect("a UTF-8 path");
+    let lod = dir.path().join("mark.lod");
+    let lod = lod.to_str().expect("a UTF-8 path");
+    build_sample(lod, &["--props", deck, "--property", "MARK", "--tile", "8"]);
+    let sample = sample();
+    let model = sample.to_str().expect("a UTF-8 path");
+    let read = ["--props", deck, "--property", "MARK"];
+    let close = ["--view", "30,35,0.15", "--wire", "none", "--sides"];
+    let centred = [&close[..], &["--centre", "28,18"]].concat();
+    let png = |name: &str| dir.path().join(name);
+    let picture = |p: &Path| image::open(p).expect("a PNG").to_rgba8();
+    // The marked cell, yellow at the top of the colour map, fills the picture's centre.
+    let marked = |picture: &image::RgbaImage| {
+        let [r, g, b, _] = picture.get_pixel(200, 150).0;
+        r > 120 && g > 120 && b < 100
+    };
+
+    draw(
+        &[&["render", model][..], &read].concat(),
+        &png("r.png"),
+        "400x300",
+        &centred,
+    );
+    draw(
+        &[&["render", model][..], &read].concat(),
+        &png("r0.png"),
+        "400x300",
+        &close,
+    );
+    let rendered = picture(&png("r.png"));
+    assert!(
+        marked(&rendered),
+        "render --centre: {:?}",
+        rendered.get_pixel(200, 150)
+    );
+    assert!(
+        !marked(&picture(&png("r0.png"))),
+        "the middle of the model is marked"
+    );
+
+    let (printed, viewed) = view_lod(lod, &png("l.png"), "400x300", &centred);
+    assert!(
+        marked(&viewed),
+        "lod view --centre: {:?}",
+        viewed.get_pixel(200, 150)
+    );
+    let differ = rendered
+        .pixels()
+        .zip(viewed.pixels())
+        .filter(|(a, b)| (0..3).any(|c| a.0[c].abs_diff(b.0[c]) > 48))
+        .count();
+    // Nodes and side faces out of the picture are left out.
+    let (whole, _) = view_lod(lod, &png("w.png"), "400x300", &["--sides"]);
+    let count = |printed: &str, after: &str| -> usize {
+        word_after(printed, after)
+            .and_then(|w| w.parse().ok())
+            .unwrap_or_else(|| panic!("no count after {after:?}: {printed}"))
+    };
+    let nodes = |printed: &str| count(printed, "from this view: ");
+    eprintln!(
+        "{differ} of 120000 pixels differ from render's; nodes {} of {}, side triangles {} of {}",
+        nodes(&printed),
+        nodes(&whole),
+        count(&printed, "wireframe, "),
+        count(&whole, "wireframe, ")
+    );
+    assert!(
+        differ < 120_000 / 50,
+        "{differ} pixels differ from render's"
+    );
+    assert!(nodes(&printed) * 2 < nodes(&whole), "{printed}\n{whole}");
+    assert!(count(&printed, "wireframe, ") * 2 < count(&whole, "wireframe, "));
+
+    for (cell, says) in [
+        ("30,5", "no drawn layer has a face"),
+        ("37,1", "36 x 24 columns"),
+    ] {
+        for command in [&["render", model][..], &["lod", "view", lod]] {
+            let out = strata(
+                &[
+                    command,
+                    &["--centre", cell, "-o"],
+                    &[png("x.png").to_str().expect("UTF-8")],
+                ]
+                .concat(),
+            );
+            assert!(
+                !out.status.success() && stderr(&out).contains(says),
+                "{command:?} --centre {cell}: {}",
+                stderr(&out)
+            );
+        }
+    }
+}

@@ -192,12 +192,15 @@ fn view(args: &ViewArgs) -> Result<()> {
     } else {
         None
     };
-    let choose = |camera: &Camera, pixels: f32| -> Vec<u32> {
+    let aspect = frame.size.0 as f32 / frame.size.1 as f32;
+    // Nodes out of the picture are left out; framing looks at the whole model.
+    let choose = |camera: &Camera, pixels: f32, culled: bool| -> Vec<u32> {
         let point = ViewPoint {
             eye: camera.eye.to_array(),
             z_scale: frame.zscale,
             fov_y_deg: camera.fov_y_deg,
             height_px: frame.size.1,
+            frustum: culled.then(|| camera.frustum(aspect)),
         };
         file.select(&point, pixels)
             .into_iter()
@@ -209,9 +212,15 @@ fn view(args: &ViewArgs) -> Result<()> {
     // vertices of the nodes within FRAMING_PIXELS of the full resolution that `render`
     // frames, so that the frame does not move with --pixels.
     let camera = fit_camera(frame_points(&file, &roots, sides.as_ref()), frame);
-    let framing = choose(&camera, FRAMING_PIXELS);
+    let framing = choose(&camera, FRAMING_PIXELS, false);
     let camera = fit_camera(frame_points(&file, &framing, sides.as_ref()), frame);
-    let chosen = choose(&camera, args.pixels);
+    let camera = match frame.centre {
+        Some(cell) => camera.centred_on(column_top(&file, &drawn, cell)?),
+        None => camera,
+    };
+    let chosen = choose(&camera, args.pixels, true);
+    let planes = camera.frustum(aspect);
+    let sides = sides.and_then(|sides| sides_in_view(&sides, &planes, frame.zscale));
     let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
     for &i in &chosen {
         let n = &file.nodes()[i as usize];
@@ -380,6 +389,45 @@ fn view(args: &ViewArgs) -> Result<()> {
 
 /// The pixel budget of the nodes that frame a view (see `view`).
 const FRAMING_PIXELS: f32 = 0.5;
+
+/// The side faces of `sides` not wholly outside one of the picture's `planes`
+/// ([`Camera::frustum`]); `None` when none is left.
+fn sides_in_view(sides: &SurfaceMesh, planes: &[[f32; 4]; 5], z_scale: f32) -> Option<SurfaceMesh> {
+    let scale = Vec3::new(1.0, 1.0, z_scale);
+    let outside = |plane: &[f32; 4], p: &[f32; 3]| {
+        Vec3::new(plane[0], plane[1], plane[2]).dot(Vec3::from(*p) * scale) + plane[3] < 0.0
+    };
+    let shown = sides.cell_faces_where(|face| {
+        let corners = || {
+            face.triangles
+                .iter()
+                .flat_map(|&t| sides.triangles[t as usize])
+                .map(|v| &sides.positions[v as usize])
+        };
+        !planes
+            .iter()
+            .any(|plane| corners().all(|p| outside(plane, p)))
+    });
+    (!shown.is_empty()).then_some(shown)
+}
+
+/// Where `--centre` looks: the centre of cell `(i, j)`'s face on the first drawn
+/// layer surface that has it, read from that surface's full-resolution leaf.
+fn column_top(file: &LodFile, drawn: &[bool], [i, j]: [u32; 2]) -> Result<Vec3> {
+    let [ni, nj] = file.dims();
+    let named = format!("--centre {},{}", i + 1, j + 1);
+    if i >= ni || j >= nj {
+        bail!("{named}: the model has {ni} x {nj} columns of cells");
+    }
+    for l in (0..drawn.len()).filter(|&l| drawn[l]) {
+        if let Some(leaf) = file.leaf_of(l, [i, j])
+            && let Some(centre) = file.mesh(leaf as usize)?.cell_centre([i, j])
+        {
+            return Ok(Vec3::from(centre));
+        }
+    }
+    bail!("{named}: no drawn layer has a face of that cell")
+}
 
 /// The vertices of `nodes` and of `sides`.
 fn frame_points<'a>(

@@ -10,7 +10,7 @@ use strata::render::glam::Vec3;
 use strata::render::{
     Camera, Coverage, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
 };
-use strata::scene::{SceneOptions, build};
+use strata::scene::{SceneOptions, build, column_top};
 
 use super::ReadArgs;
 use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso};
@@ -176,14 +176,24 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (lo, hi) = mesh.bounds().ok_or_else(|| anyhow!("empty scene"))?;
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let (az, el, dist) = args.frame.view;
+    let camera = Camera::fit_points(
+        mesh.positions.iter().map(|&p| Vec3::from(p)),
+        args.frame.zscale,
+        args.frame.size.0 as f32 / args.frame.size.1 as f32,
+        (az, el),
+        dist,
+    );
+    let camera = match args.frame.centre {
+        Some(cell) => camera.centred_on(Vec3::from(column_top(
+            &grid,
+            options.layers.clone(),
+            cell,
+            mesh.origin,
+        )?)),
+        None => camera,
+    };
     let view = View {
-        camera: Camera::fit_points(
-            mesh.positions.iter().map(|&p| Vec3::from(p)),
-            args.frame.zscale,
-            args.frame.size.0 as f32 / args.frame.size.1 as f32,
-            (az, el),
-            dist,
-        ),
+        camera,
         width: args.frame.size.0,
         height: args.frame.size.1,
         bounds,

@@ -48,6 +48,11 @@ pub struct FrameArgs {
     /// distance as a multiple of the fitting distance.
     #[arg(long, default_value = "30,35", value_parser = parse_view)]
     pub view: (f32, f32, f32),
+    /// Look at the top of the column of cells I,J (1-based, as `info --cell`) instead
+    /// of the middle of the model: the centre of that cell's face on the first drawn
+    /// layer that has it. With --view's distance below 1, a close-up there.
+    #[arg(long, value_name = "I,J", value_parser = parse_column)]
+    pub centre: Option<[u32; 2]>,
     /// Image size WxH.
     #[arg(long, default_value = "1200x900", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -317,6 +322,19 @@ pub(crate) fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
         [az, el] => Ok((*az, *el, 1.0)),
         [az, el, d] if *d > 0.0 => Ok((*az, *el, *d)),
         _ => Err(format!("expected AZ,EL[,DIST] with DIST > 0, got {s:?}")),
+    }
+}
+
+/// `--centre I,J`: a 1-based column of cells, as 0-based (i, j).
+fn parse_column(s: &str) -> Result<[u32; 2], String> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<u32>().ok().filter(|&n| n >= 1))
+        .collect::<Option<_>>()
+        .ok_or_else(|| format!("expected I,J with 1-based cell indices, got {s:?}"))?;
+    match v.as_slice() {
+        [i, j] => Ok([i - 1, j - 1]),
+        _ => Err(format!("expected I,J with 1-based cell indices, got {s:?}")),
     }
 }
 
