@@ -330,9 +330,41 @@ impl SideBuilder<'_> {
         {
             return;
         }
+        // Wound counter-clockwise seen from outside the cell (the normal by the
+        // right-hand rule points away from its centre), whatever the handedness of
+        // the grid's axes in map coordinates, so that a viewer can leave out the faces
+        // that turn their back to the eye: a closed set of cells hides them.
+        let centre = self
+            .grid
+            .cell_corners(i, j, k)
+            .iter()
+            .fold([0.0; 3], |sum, c| {
+                let p = CornerPointGrid::to_display(self.origin, *c);
+                std::array::from_fn(|a| sum[a] + f64::from(p[a]) / 8.0)
+            });
+        let sub = |p: [f32; 3], q: [f32; 3]| -> [f64; 3] {
+            std::array::from_fn(|a| f64::from(p[a]) - f64::from(q[a]))
+        };
+        let (d0, d1) = (sub(pts[2], pts[0]), sub(pts[3], pts[1]));
+        let normal = [
+            d0[1] * d1[2] - d0[2] * d1[1],
+            d0[2] * d1[0] - d0[0] * d1[2],
+            d0[0] * d1[1] - d0[1] * d1[0],
+        ];
+        let outward: f64 = (0..3)
+            .map(|a| {
+                let face = pts.iter().map(|p| f64::from(p[a])).sum::<f64>() / 4.0;
+                normal[a] * (face - centre[a])
+            })
+            .sum();
         let t = self.mesh.triangles.len() as u32;
-        self.mesh.triangles.push([ids[0], ids[1], ids[2]]);
-        self.mesh.triangles.push([ids[0], ids[2], ids[3]]);
+        if outward >= 0.0 {
+            self.mesh.triangles.push([ids[0], ids[1], ids[2]]);
+            self.mesh.triangles.push([ids[0], ids[2], ids[3]]);
+        } else {
+            self.mesh.triangles.push([ids[0], ids[2], ids[1]]);
+            self.mesh.triangles.push([ids[0], ids[3], ids[2]]);
+        }
         self.mesh.cell_faces.push(CellFace {
             triangles: [t, t + 1],
             cell: [i as u32, j as u32, k as u32],
@@ -504,6 +536,52 @@ mod tests {
                     "north edge of cell {i},{j} is open"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn side_faces_wind_outward_from_their_cells() {
+        let mut mirrored = faulted();
+        // MAPAXES with y pointing south: the grid's axes are left-handed on the map.
+        mirrored.mapaxes = Some(crate::MapAxes::from_values([0.0, -1.0, 0.0, 0.0, 1.0, 0.0]));
+        for g in [faulted(), mirrored] {
+            let origin = g.display_origin();
+            let sides = side_surfaces(&g, 0..g.dims().nz, None, origin).unwrap();
+            let (mut outward, mut inward) = (0, 0);
+            for f in &sides.cell_faces {
+                let [i, j, k] = f.cell.map(|c| c as usize);
+                let centre = g.cell_corners(i, j, k).iter().fold([0f32; 3], |sum, c| {
+                    let p = CornerPointGrid::to_display(origin, *c);
+                    std::array::from_fn(|a| sum[a] + p[a] / 8.0)
+                });
+                for t in f.triangles {
+                    let [a, b, c] =
+                        sides.triangles[t as usize].map(|v| sides.positions[v as usize]);
+                    let (u, v) = (
+                        [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+                        [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+                    );
+                    let n = [
+                        u[1] * v[2] - u[2] * v[1],
+                        u[2] * v[0] - u[0] * v[2],
+                        u[0] * v[1] - u[1] * v[0],
+                    ];
+                    let away: f32 = (0..3)
+                        .map(|x| n[x] * ((a[x] + b[x] + c[x]) / 3.0 - centre[x]))
+                        .sum();
+                    // (A face whose top or bottom edge is pinched has a triangle of
+                    // no area, which faces nowhere.)
+                    if away > 0.0 {
+                        outward += 1;
+                    } else if away < 0.0 {
+                        inward += 1;
+                    }
+                }
+            }
+            assert!(
+                outward > 1000 && inward == 0,
+                "{outward} triangles wind outward, {inward} inward"
+            );
         }
     }
 
