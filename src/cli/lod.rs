@@ -219,8 +219,7 @@ fn view(args: &ViewArgs) -> Result<()> {
         None => camera,
     };
     let chosen = choose(&camera, args.pixels, true);
-    let planes = camera.frustum(aspect);
-    let sides = sides.and_then(|sides| sides_in_view(&sides, &planes, frame.zscale));
+    let sides = sides.and_then(|sides| sides_in_view(&sides, &camera, aspect));
     let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
     for &i in &chosen {
         let n = &file.nodes()[i as usize];
@@ -390,23 +389,27 @@ fn view(args: &ViewArgs) -> Result<()> {
 /// The pixel budget of the nodes that frame a view (see `view`).
 const FRAMING_PIXELS: f32 = 0.5;
 
-/// The side faces of `sides` not wholly outside one of the picture's `planes`
-/// ([`Camera::frustum`]); `None` when none is left.
-fn sides_in_view(sides: &SurfaceMesh, planes: &[[f32; 4]; 5], z_scale: f32) -> Option<SurfaceMesh> {
-    let scale = Vec3::new(1.0, 1.0, z_scale);
-    let outside = |plane: &[f32; 4], p: &[f32; 3]| {
-        Vec3::new(plane[0], plane[1], plane[2]).dot(Vec3::from(*p) * scale) + plane[3] < 0.0
-    };
+/// The side faces of `sides` that `camera` may show: not wholly outside one of the
+/// picture's planes ([`Camera::frustum`] for `aspect`), and facing the eye. Side
+/// faces wind counter-clockwise seen from outside their cells, and the cells drawn
+/// are closed by their layers' top and bottom surfaces and their other side faces,
+/// which hide a face that turns its back. `None` when none is left.
+fn sides_in_view(sides: &SurfaceMesh, camera: &Camera, aspect: f32) -> Option<SurfaceMesh> {
+    let planes = camera.frustum(aspect);
+    let scale = Vec3::new(1.0, 1.0, camera.z_scale);
+    let at = |v: u32| Vec3::from(sides.positions[v as usize]) * scale;
+    let outside =
+        |plane: &[f32; 4], p: Vec3| Vec3::new(plane[0], plane[1], plane[2]).dot(p) + plane[3] < 0.0;
     let shown = sides.cell_faces_where(|face| {
-        let corners = || {
-            face.triangles
-                .iter()
-                .flat_map(|&t| sides.triangles[t as usize])
-                .map(|v| &sides.positions[v as usize])
-        };
-        !planes
+        let triangles = face.triangles.map(|t| sides.triangles[t as usize].map(at));
+        let corners = || triangles.iter().flatten().copied();
+        let faces_eye = triangles
             .iter()
-            .any(|plane| corners().all(|p| outside(plane, p)))
+            .any(|[a, b, c]| (*b - *a).cross(*c - *a).dot(camera.eye - *a) > 0.0);
+        faces_eye
+            && !planes
+                .iter()
+                .any(|plane| corners().all(|p| outside(plane, p)))
     });
     (!shown.is_empty()).then_some(shown)
 }

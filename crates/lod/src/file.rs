@@ -15,7 +15,8 @@
 //!               face, then each cell's value (f32), padded to 8 bytes
 //! layer sides   per grid layer with side faces (outer shell and fault walls), after
 //!               its top surface's cells, at full resolution: vertices (as node
-//!               data), then per face its two triangles (u32 indices), then per face
+//!               data), then per face its two triangles (u32 indices, wound
+//!               counter-clockwise seen from outside the face's cell), then per face
 //!               its cell's (i, j) (u32 pairs), then per face the property's value
 //!               (f32, NaN without one), padded to 8 bytes
 //! LayerRecord   40 bytes per layer surface: grid layer, face, root node, node count,
@@ -45,8 +46,9 @@ use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result, build
 
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
-/// faces.
-const VERSION: u32 = 4;
+/// faces. 5: side faces wound counter-clockwise seen from outside their cells, so a
+/// view leaves out those that turn their back to the eye.
+const VERSION: u32 = 5;
 /// Header flag: vertices carry a scalar (NaN otherwise).
 const HAS_SCALARS: u32 = 1;
 
