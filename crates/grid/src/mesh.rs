@@ -202,7 +202,7 @@ impl SurfaceMesh {
     /// corners of the triangles whose texture coordinates lie in that cell. `None`
     /// where the surface has no face of the cell.
     pub fn cell_centre(&self, [i, j]: [u32; 2]) -> Option<[f32; 3]> {
-        let (u0, v0) = ((2 * i + 1) as f32, (2 * j + 1) as f32);
+        let (u0, v0) = (2.0 * i as f32 + 1.0, 2.0 * j as f32 + 1.0);
         let inside = |c: f32, lo: f32| c > lo && c < lo + 2.0;
         let mut corners: Vec<u32> = Vec::with_capacity(4);
         for tri in &self.triangles {

@@ -188,7 +188,7 @@ fn neighbours_at_every_pair_of_levels_share_their_borders() {
 }
 
 #[test]
-fn a_view_frustum_leaves_out_only_what_it_does_not_show() {
+fn a_view_frustum_leaves_out_only_what_it_does_not_show_and_a_cell_has_one_leaf() {
     let grid = faulted_grid(40, 30);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("model.lod");
@@ -260,6 +260,27 @@ fn a_view_frustum_leaves_out_only_what_it_does_not_show() {
                 }
             }
         }
+    }
+    // The leaf that holds a cell, found down the tree, and the cell's centre there:
+    // the same as on the layer's surface at full resolution.
+    for (l, layer) in file.layers().iter().enumerate() {
+        let leaf = file.leaf_of(l, [13, 21]).expect("a leaf holds the cell");
+        let n = &nodes[leaf as usize];
+        assert!(n.child_count == 0 && n.layer as usize == l);
+        assert!((n.cells[0]..n.cells[2]).contains(&13) && (n.cells[1]..n.cells[3]).contains(&21));
+        let at = |mesh: SurfaceMesh| {
+            let c = mesh.cell_centre([13, 21]).expect("the cell has a face");
+            std::array::from_fn::<f64, 3, _>(|a| mesh.origin[a] + f64::from(c[a]))
+        };
+        let (stored, whole) = (
+            at(file.mesh(leaf as usize).unwrap()),
+            at(stored_surface(&grid, layer, None)),
+        );
+        assert!(
+            (0..3).all(|a| (stored[a] - whole[a]).abs() < 1e-2),
+            "layer {l}: {stored:?} against {whole:?}"
+        );
+        assert_eq!(file.leaf_of(l, [40, 0]), None);
     }
 }
 
@@ -750,6 +771,11 @@ fn random_damage_never_panics() {
             }
             for l in 0..file.layers().len() {
                 let _ = file.layer_sides(l);
+                for cell in [[0, 0], [5, 7], [u32::MAX, 3]] {
+                    if let Some(leaf) = file.leaf_of(l, cell) {
+                        let _ = file.mesh(leaf as usize).map(|m| m.cell_centre(cell));
+                    }
+                }
             }
             for i in 0..file.nodes().len() {
                 let _ = file.mesh(i);
