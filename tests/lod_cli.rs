@@ -882,6 +882,18 @@ fn a_close_up_centres_its_cell_and_the_hierarchy_draws_only_what_it_shows() {
     );
     assert!(nodes(&printed) * 2 < nodes(&whole), "{printed}\n{whole}");
     assert!(count(&printed, "wireframe, ") * 2 < count(&whole, "wireframe, "));
+    // The nodes that the visibility pass finds hidden at every pixel are not drawn.
+    let drawn_of = printed.rsplit("; ").next().and_then(|s| {
+        let words: Vec<&str> = s.split(' ').collect();
+        Some((
+            words.first()?.parse::<usize>().ok()?,
+            words.get(3)?.parse::<usize>().ok()?,
+        ))
+    });
+    assert!(
+        drawn_of.is_some_and(|(drawn, of)| 0 < drawn && drawn < of),
+        "{printed}"
+    );
 
     for (cell, says) in [
         ("30,5", "no drawn layer has a face"),

@@ -218,7 +218,7 @@ fn view(args: &ViewArgs) -> Result<()> {
         Some(cell) => camera.centred_on(column_top(&file, &drawn, cell)?),
         None => camera,
     };
-    let chosen = choose(&camera, args.pixels, true);
+    let mut chosen = choose(&camera, args.pixels, true);
     let sides = sides.and_then(|sides| sides_in_view(&sides, &camera, aspect));
     let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
     for &i in &chosen {
@@ -273,9 +273,9 @@ fn view(args: &ViewArgs) -> Result<()> {
         (Some(_), None) => bail!("{}: --iso: no property stored", args.file.display()),
         (None, _) => None,
     };
-    let mesh = file.selection_mesh(&chosen)?;
+    let mut mesh = file.selection_mesh(&chosen)?;
     let mut renderer = Renderer::headless()?;
-    let cover = if by_cells {
+    let mut cover = if by_cells {
         file.selection_cover(&chosen)?
     } else {
         None
@@ -298,7 +298,7 @@ fn view(args: &ViewArgs) -> Result<()> {
     // for the part of each node the view shows, tile by tile: from above, one layer of
     // the stack; obliquely, the top and the others' edges.
     let tile = file.tile_cells();
-    let shown = match &cover {
+    let mut shown = match &cover {
         Some(cover) => Some(
             renderer
                 .visible_tiles(&mesh, (cover, tile), &view, &style)
@@ -306,6 +306,31 @@ fn view(args: &ViewArgs) -> Result<()> {
         ),
         None => None,
     };
+    // A node that shows no tile is hidden at every pixel centre by the others (no
+    // other geometry draws its lines), so the frame is the same without it.
+    let chosen_count = chosen.len();
+    let tiles_shown = shown
+        .as_ref()
+        .map(|shown| (shown.iter().filter(|&&v| v).count(), shown.len()));
+    if let (Some(old_cover), Some(old_shown)) = (&cover, &shown) {
+        let (mut kept, mut kept_shown, mut at) = (Vec::new(), Vec::new(), 0);
+        for (&node, piece) in chosen.iter().zip(&old_cover.pieces) {
+            let Some(tiles) = old_shown.get(at..at + piece.tile_count(tile)) else {
+                break;
+            };
+            at += tiles.len();
+            if tiles.contains(&true) {
+                kept.push(node);
+                kept_shown.extend_from_slice(tiles);
+            }
+        }
+        if at == old_shown.len() && kept.len() < chosen.len() {
+            mesh = file.selection_mesh(&kept)?;
+            cover = file.selection_cover(&kept)?;
+            shown = Some(kept_shown);
+            chosen = kept;
+        }
+    }
     let values = match &cover {
         Some(_) => file.selection_values(&chosen, shown.as_deref())?,
         None => None,
@@ -348,7 +373,7 @@ fn view(args: &ViewArgs) -> Result<()> {
     let image = renderer.render(&drawables, &view, &style)?;
     strata::render::save_png(&image, output)?;
     eprintln!(
-        "{}: drawn with the {} wireframe{}, {}{}",
+        "{}: drawn with the {} wireframe{}, {}{}{}",
         output.display(),
         wire.name(),
         match &sides {
@@ -364,12 +389,10 @@ fn view(args: &ViewArgs) -> Result<()> {
                 } else {
                     "by values interpolated between nodes"
                 },
-                match &shown {
-                    Some(shown) => format!(
-                        " (the cells of the {} of {} tiles the view shows)",
-                        shown.iter().filter(|&&v| v).count(),
-                        shown.len()
-                    ),
+                match tiles_shown {
+                    Some((seen, all)) => {
+                        format!(" (the cells of the {seen} of {all} tiles the view shows)")
+                    }
                     None => String::new(),
                 }
             ),
@@ -381,6 +404,14 @@ fn view(args: &ViewArgs) -> Result<()> {
                 iso.spacing
             ),
             None => String::new(),
+        },
+        if chosen.len() < chosen_count {
+            format!(
+                "; {} of the {chosen_count} nodes in view drawn, the others hidden behind them",
+                chosen.len()
+            )
+        } else {
+            String::new()
         }
     );
     Ok(())
