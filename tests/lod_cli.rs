@@ -110,18 +110,32 @@ fn measure(picture: &image::RgbaImage) -> (usize, f64, f64, f64) {
     )
 }
 
-#[test]
-fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
-    let dir = tempfile::tempdir().expect("a temporary folder");
-    // MARK rises along i over the sample's cells (GRDECL order: i fastest).
+/// A deck in `dir` of property MARK over the sample's cells, `value(i, j)` (0-based)
+/// in every layer.
+fn mark_deck(dir: &Path, value: impl Fn(usize, usize) -> String) -> PathBuf {
     let d = strata::grid::open(&sample())
         .expect("the sample reads")
         .dims();
-    let deck = dir.path().join("mark.grdecl");
+    // GRDECL order: i fastest, then j, then k.
     let values: Vec<String> = (0..d.nx * d.ny * d.nz)
-        .map(|c| format!("{:.4}", (c % d.nx) as f64 / (d.nx - 1) as f64))
+        .map(|c| value(c % d.nx, c / d.nx % d.ny))
         .collect();
+    let deck = dir.join("mark.grdecl");
     std::fs::write(&deck, format!("MARK\n{}\n/\n", values.join("\n"))).expect("write the deck");
+    deck
+}
+
+#[test]
+fn a_property_deck_beside_the_model_colours_the_hierarchy_view() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    // MARK rises along i over the sample's cells.
+    let nx = strata::grid::open(&sample())
+        .expect("the sample reads")
+        .dims()
+        .nx;
+    let deck = mark_deck(dir.path(), |i, _| {
+        format!("{:.4}", i as f64 / (nx - 1) as f64)
+    });
     let deck = deck.to_str().expect("a UTF-8 path");
 
     let (printed, picture) =
@@ -799,17 +813,9 @@ fn info_summarises_a_hierarchy_and_commands_name_the_other_kind_of_file() {
 fn a_close_up_centres_its_cell_and_the_hierarchy_draws_only_what_it_shows() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     // MARK is 1 on the column of cells (28, 18) (1-based), 0 elsewhere.
-    let d = strata::grid::open(&sample())
-        .expect("the sample reads")
-        .dims();
-    let values: Vec<&str> = (0..d.nx * d.ny * d.nz)
-        .map(|c| {
-            let (i, j) = (c % d.nx, c / d.nx % d.ny);
-            if (i, j) == (27, 17) { "1" } else { "0" }
-        })
-        .collect();
-    let deck = dir.path().join("mark.grdecl");
-    std::fs::write(&deck, format!("MARK\n{}\n/\n", values.join("\n"))).expect("write the deck");
+    let deck = mark_deck(dir.path(), |i, j| {
+        if (i, j) == (27, 17) { "1" } else { "0" }.to_string()
+    });
     let deck = deck.to_str().expect("a UTF-8 path");
     let lod = dir.path().join("mark.lod");
     let lod = lod.to_str().expect("a UTF-8 path");

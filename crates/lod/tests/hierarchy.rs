@@ -27,6 +27,22 @@ fn stored_surface(
     layer_surface(grid, layer.k as usize, face, property, [0.0; 3]).unwrap()
 }
 
+/// How many of the nodes `chosen` draw each cell of layer surface `l`, row by row.
+fn times_drawn(file: &LodFile, chosen: &[u32], l: usize) -> Vec<u8> {
+    let [ni, nj] = file.dims();
+    let mut cells = vec![0u8; ni as usize * nj as usize];
+    for n in chosen.iter().map(|&i| &file.nodes()[i as usize]) {
+        if n.layer as usize == l {
+            for j in n.cells[1]..n.cells[3] {
+                for i in n.cells[0]..n.cells[2] {
+                    cells[(j * ni + i) as usize] += 1;
+                }
+            }
+        }
+    }
+    cells
+}
+
 fn options(tile_cells: u32) -> BuildOptions {
     BuildOptions {
         tile_cells,
@@ -229,19 +245,11 @@ fn a_view_frustum_leaves_out_only_what_it_does_not_show_and_a_cell_has_one_leaf(
     );
     let reaches = |n: &NodeRecord| n.min[0] <= mid[0] && n.min[1] <= mid[1];
     // Every cell of every leaf in the quarter is drawn once, by a node that reaches it.
+    for &i in &chosen {
+        assert!(reaches(&nodes[i as usize]), "node {i} is outside the view");
+    }
     for (l, layer) in file.layers().iter().enumerate() {
-        let mut cells = vec![0u8; 40 * 30];
-        for &i in &chosen {
-            let n = &nodes[i as usize];
-            assert!(reaches(n), "node {i} is outside the view");
-            if n.layer as usize == l {
-                for j in n.cells[1]..n.cells[3] {
-                    for i in n.cells[0]..n.cells[2] {
-                        cells[(j * 40 + i) as usize] += 1;
-                    }
-                }
-            }
-        }
+        let cells = times_drawn(&file, &chosen, l);
         assert!(
             cells.iter().all(|&c| c <= 1),
             "layer {l}: a cell drawn twice"
@@ -358,18 +366,7 @@ fn file_round_trip_and_selection() {
     );
     for (l, layer) in file.layers().iter().enumerate() {
         let surface = stored_surface(&grid, layer, None);
-        let mut cells = vec![0u8; 40 * 30];
-        for &i in &chosen {
-            let n = &file.nodes()[i as usize];
-            if n.layer as usize != l {
-                continue;
-            }
-            for j in n.cells[1]..n.cells[3] {
-                for i in n.cells[0]..n.cells[2] {
-                    cells[(j * 40 + i) as usize] += 1;
-                }
-            }
-        }
+        let cells = times_drawn(&file, &chosen, l);
         // At most once everywhere; exactly once where the layer has a face (tiles
         // without any have no node).
         assert!(
