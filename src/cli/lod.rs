@@ -306,30 +306,17 @@ fn view(args: &ViewArgs) -> Result<()> {
         ),
         None => None,
     };
-    // A node that shows no tile is hidden at every pixel centre by the others (no
-    // other geometry draws its lines), so the frame is the same without it.
     let chosen_count = chosen.len();
     let tiles_shown = shown
         .as_ref()
         .map(|shown| (shown.iter().filter(|&&v| v).count(), shown.len()));
-    if let (Some(old_cover), Some(old_shown)) = (&cover, &shown) {
-        let (mut kept, mut kept_shown, mut at) = (Vec::new(), Vec::new(), 0);
-        for (&node, piece) in chosen.iter().zip(&old_cover.pieces) {
-            let Some(tiles) = old_shown.get(at..at + piece.tile_count(tile)) else {
-                break;
-            };
-            at += tiles.len();
-            if tiles.contains(&true) {
-                kept.push(node);
-                kept_shown.extend_from_slice(tiles);
-            }
-        }
-        if at == old_shown.len() && kept.len() < chosen.len() {
-            mesh = file.selection_mesh(&kept)?;
-            cover = file.selection_cover(&kept)?;
-            shown = Some(kept_shown);
-            chosen = kept;
-        }
+    if let (Some(all), Some(flags)) = (&cover, &shown)
+        && let Some((kept, kept_flags)) = unhidden_nodes(&chosen, all, flags, tile)
+    {
+        mesh = file.selection_mesh(&kept)?;
+        cover = file.selection_cover(&kept)?;
+        shown = Some(kept_flags);
+        chosen = kept;
     }
     let values = match &cover {
         Some(_) => file.selection_values(&chosen, shown.as_deref())?,
@@ -419,6 +406,29 @@ fn view(args: &ViewArgs) -> Result<()> {
 
 /// The pixel budget of the nodes that frame a view (see `view`).
 const FRAMING_PIXELS: f32 = 0.5;
+
+/// Of the nodes `chosen`, whose pieces of `cover` have the tiles (of `tile` cells)
+/// that `shown` marks, those that show at least one, with their tiles' flags; `None`
+/// when none is hidden. A node that shows no tile is behind the others at every pixel
+/// centre, and nothing else of it is drawn (its lines are on its surface), so the
+/// frame is the same without it.
+fn unhidden_nodes(
+    chosen: &[u32],
+    cover: &CellCover,
+    shown: &[bool],
+    tile: u32,
+) -> Option<(Vec<u32>, Vec<bool>)> {
+    let (mut kept, mut kept_shown, mut at) = (Vec::new(), Vec::new(), 0);
+    for (&node, piece) in chosen.iter().zip(&cover.pieces) {
+        let tiles = shown.get(at..at + piece.tile_count(tile))?;
+        at += tiles.len();
+        if tiles.contains(&true) {
+            kept.push(node);
+            kept_shown.extend_from_slice(tiles);
+        }
+    }
+    (at == shown.len() && kept.len() < chosen.len()).then_some((kept, kept_shown))
+}
 
 /// The side faces of `sides` that `camera` may show: not wholly outside one of the
 /// picture's planes ([`Camera::frustum`] for `aspect`), and facing the eye. Side
