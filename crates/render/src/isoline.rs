@@ -48,7 +48,7 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
-use crate::wire::{Drawable, FrameTargets, PipelineContext, pipeline};
+use crate::wire::{Drawable, FrameTargets, PipelineContext, chunks, pipeline};
 use crate::{Error, Gpu, Result};
 
 /// The value written for an undefined scalar (see `UNDEFINED_SCALAR` in common.wgsl).
@@ -323,29 +323,41 @@ impl IsolineTechnique {
                 }
             })
             .collect();
-        let bytes: &[u8] = bytemuck::cast_slice(&corners);
-        let limit = gpu.limits.max_storage_buffer_binding_size as usize;
-        if bytes.len() > limit {
-            return Err(Error::Invalid(format!(
-                "isolines: {} bytes of corners exceed this adapter's storage binding limit of {limit}; draw the mesh in chunks",
-                bytes.len()
-            )));
-        }
+        // The prepass binds the corners as storage: a mesh whose corners exceed one
+        // binding is cut into chunks of whole triangles that each fit one.
+        let chunks = chunks(gpu, mesh.triangles.len(), 3 * std::mem::size_of::<Corner>())
+            .into_iter()
+            .map(|range| self.chunk(gpu, &corners[3 * range.start..3 * range.end], options))
+            .collect();
+        Ok(IsolineDraw {
+            adjust: self.adjust.clone(),
+            draw: if options.wire {
+                self.draw_wire.clone()
+            } else {
+                self.draw_plain.clone()
+            },
+            chunks,
+        })
+    }
+
+    /// The buffers and prepass bindings of `corners` (whole triangles), which fit one
+    /// storage binding.
+    fn chunk(&self, gpu: &Gpu, corners: &[Corner], options: IsolineOptions) -> IsolineChunk {
         let device = &gpu.device;
         let corner_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("isoline corners"),
-            contents: bytes,
+            contents: bytemuck::cast_slice(corners),
             usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::STORAGE,
         });
         let adjusted = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("isoline coordinates"),
-            size: 4 * corners_len as u64,
+            size: 4 * corners.len() as u64,
             usage: wgpu::BufferUsages::VERTEX
                 | wgpu::BufferUsages::STORAGE
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let triangles = mesh.triangles.len() as u32;
+        let triangles = (corners.len() / 3) as u32;
         let groups = triangles.div_ceil(WORKGROUP);
         let max_x = gpu.limits.max_compute_workgroups_per_dimension.max(1);
         let dispatch = (groups.min(max_x), groups.div_ceil(max_x));
@@ -378,26 +390,26 @@ impl IsolineTechnique {
                 },
             ],
         });
-        Ok(IsolineDraw {
-            adjust: self.adjust.clone(),
-            draw: if options.wire {
-                self.draw_wire.clone()
-            } else {
-                self.draw_plain.clone()
-            },
+        IsolineChunk {
             bind_group,
             corners: corner_buffer,
             adjusted,
             dispatch,
-            vertex_count: corners_len as u32,
-        })
+            vertex_count: corners.len() as u32,
+        }
     }
 }
 
-/// A mesh drawn with range-adjusted isolines.
+/// A mesh drawn with range-adjusted isolines, in chunks that each fit a binding.
 pub(crate) struct IsolineDraw {
     adjust: wgpu::ComputePipeline,
     draw: wgpu::RenderPipeline,
+    pub(crate) chunks: Vec<IsolineChunk>,
+}
+
+/// Whole triangles of an [`IsolineDraw`]: their corners, their adjusted isoline
+/// coordinates (one per corner) and the prepass that writes them.
+pub(crate) struct IsolineChunk {
     bind_group: wgpu::BindGroup,
     corners: wgpu::Buffer,
     pub(crate) adjusted: wgpu::Buffer,
@@ -419,8 +431,10 @@ impl IsolineDraw {
         });
         pass.set_pipeline(&self.adjust);
         pass.set_bind_group(0, frame_bind_group, &[]);
-        pass.set_bind_group(1, &self.bind_group, &[]);
-        pass.dispatch_workgroups(self.dispatch.0, self.dispatch.1, 1);
+        for chunk in &self.chunks {
+            pass.set_bind_group(1, &chunk.bind_group, &[]);
+            pass.dispatch_workgroups(chunk.dispatch.0, chunk.dispatch.1, 1);
+        }
     }
 }
 
@@ -432,17 +446,25 @@ impl Drawable for IsolineDraw {
         let mut pass = frame.begin_pass(encoder, "isolines");
         pass.set_pipeline(&self.draw);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_vertex_buffer(0, self.corners.slice(..));
-        pass.set_vertex_buffer(1, self.adjusted.slice(..));
-        pass.draw(0..self.vertex_count, 0..1);
+        for chunk in &self.chunks {
+            pass.set_vertex_buffer(0, chunk.corners.slice(..));
+            pass.set_vertex_buffer(1, chunk.adjusted.slice(..));
+            pass.draw(0..chunk.vertex_count, 0..1);
+        }
     }
 
     fn triangles(&self) -> usize {
-        self.vertex_count as usize / 3
+        self.chunks
+            .iter()
+            .map(|c| c.vertex_count as usize / 3)
+            .sum()
     }
 
     fn bytes(&self) -> u64 {
-        self.corners.size() + self.adjusted.size()
+        self.chunks
+            .iter()
+            .map(|c| c.corners.size() + c.adjusted.size())
+            .sum()
     }
 }
 
@@ -531,5 +553,66 @@ mod tests {
         // ... far away it changes fast enough on screen: no adjust at all.
         let far = adjusted(&mut r, RangeAdjust::On, 3000.0);
         assert_eq!(far, off);
+    }
+
+    #[test]
+    fn a_mesh_beyond_one_binding_is_drawn_in_chunks() {
+        // 20 x 10 cells, 400 triangles, a field rising across them.
+        let mut mesh = SurfaceMesh::structured(20, 10, |i, j| [i as f32, j as f32, 0.0]);
+        mesh.scalars = mesh
+            .positions
+            .iter()
+            .map(|p| 0.11 * p[0] + 0.07 * p[1])
+            .collect();
+        let mut camera = Camera::look_at(
+            Vec3::new(10.0, 5.0, 30.0),
+            Vec3::new(10.0, 5.0, 0.0),
+            Vec3::Y,
+        );
+        camera.fov_y_deg = 45.0;
+        let view = View {
+            camera,
+            width: 320,
+            height: 240,
+            bounds: (Vec3::ZERO, Vec3::new(20.0, 10.0, 0.0)),
+        };
+        let style = Style {
+            isolines: Some(Isolines::new(0.25)),
+            ..Style::default()
+        };
+        let options = IsolineOptions {
+            adjust: RangeAdjust::On,
+            wire: true,
+        };
+        let draw = |binding: Option<u64>| {
+            let mut r = Renderer::headless().expect("renderer");
+            if let Some(bytes) = binding {
+                r.gpu.limits.max_storage_buffer_binding_size = bytes;
+            }
+            let drawable = r.prepare_isolines(&mesh, None, options).expect("prepared");
+            let image = r
+                .render(&[drawable.as_ref()], &view, &style)
+                .expect("frame");
+            let s = r
+                .isoline_coordinates(&mesh, None, options.adjust, &view, &style)
+                .expect("prepass");
+            (image, s)
+        };
+        let (whole, whole_s) = draw(None);
+        // Bindings of 37 triangles' corners: 11 chunks.
+        let corner = std::mem::size_of::<Corner>() as u64;
+        let (chunked, chunked_s) = draw(Some(37 * 3 * corner));
+        // The lines are there (dark pixels on the light grey surface), and chunks draw
+        // them exactly as one buffer does.
+        let dark = whole.pixels().filter(|p| p.0[0] < 100).count();
+        assert!(dark > 2000, "{dark} isoline or wire pixels");
+        assert_eq!(chunked_s.len(), 3 * 400);
+        assert_eq!(chunked_s, whole_s);
+        let differ = whole
+            .pixels()
+            .zip(chunked.pixels())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(differ, 0, "pixels drawn otherwise in chunks");
     }
 }

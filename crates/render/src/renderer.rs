@@ -332,7 +332,7 @@ impl Renderer {
         self.isolines = Some(technique);
         let draw = prepared?;
         self.set_frame(view, style)?;
-        let size = draw.adjusted.size();
+        let size = draw.chunks.iter().map(|c| c.adjusted.size()).sum();
         let readback = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("isoline coordinates readback"),
             size,
@@ -341,7 +341,12 @@ impl Renderer {
         });
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
         draw.encode_prepass(&self.bind_group, &mut encoder);
-        encoder.copy_buffer_to_buffer(&draw.adjusted, 0, &readback, 0, size);
+        let mut at = 0;
+        for chunk in &draw.chunks {
+            let size = chunk.adjusted.size();
+            encoder.copy_buffer_to_buffer(&chunk.adjusted, 0, &readback, at, size);
+            at += size;
+        }
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu.map_read(&readback)?;
         let slice = readback.slice(..);

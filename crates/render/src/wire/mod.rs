@@ -11,6 +11,7 @@ pub mod reference;
 mod texture;
 mod wire_texture;
 
+pub(crate) use lines::chunks;
 pub(crate) use texture::CellTechnique;
 pub use texture::{CellDraw, TiledCells};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
