@@ -488,19 +488,33 @@ mod tests {
         }
     }
 
-    fn adjusted(r: &mut Renderer, adjust: RangeAdjust, distance: f32) -> Vec<f32> {
-        let mut camera = Camera::look_at(
-            Vec3::new(0.3, 0.3, distance),
-            Vec3::new(0.3, 0.3, 0.0),
-            Vec3::Y,
-        );
-        camera.fov_y_deg = 35.0;
-        let view = View {
+    /// A `width` x `height` view straight down from `distance` above `at` (z = 0)
+    /// onto a flat mesh within `[0, extent]`.
+    fn looking_down(
+        at: Vec3,
+        distance: f32,
+        fov_y_deg: f32,
+        (width, height): (u32, u32),
+        extent: Vec3,
+    ) -> View {
+        let mut camera = Camera::look_at(at + Vec3::Z * distance, at, Vec3::Y);
+        camera.fov_y_deg = fov_y_deg;
+        View {
             camera,
-            width: 256,
-            height: 256,
-            bounds: (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)),
-        };
+            width,
+            height,
+            bounds: (Vec3::ZERO, extent),
+        }
+    }
+
+    fn adjusted(r: &mut Renderer, adjust: RangeAdjust, distance: f32) -> Vec<f32> {
+        let view = looking_down(
+            Vec3::new(0.3, 0.3, 0.0),
+            distance,
+            35.0,
+            (256, 256),
+            Vec3::new(1.0, 1.0, 0.0),
+        );
         let style = Style {
             isolines: Some(Isolines {
                 offset: 0.0,
@@ -564,18 +578,13 @@ mod tests {
             .iter()
             .map(|p| 0.11 * p[0] + 0.07 * p[1])
             .collect();
-        let mut camera = Camera::look_at(
-            Vec3::new(10.0, 5.0, 30.0),
+        let view = looking_down(
             Vec3::new(10.0, 5.0, 0.0),
-            Vec3::Y,
+            30.0,
+            45.0,
+            (320, 240),
+            Vec3::new(20.0, 10.0, 0.0),
         );
-        camera.fov_y_deg = 45.0;
-        let view = View {
-            camera,
-            width: 320,
-            height: 240,
-            bounds: (Vec3::ZERO, Vec3::new(20.0, 10.0, 0.0)),
-        };
         let style = Style {
             isolines: Some(Isolines::new(0.25)),
             ..Style::default()
