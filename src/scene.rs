@@ -86,7 +86,7 @@ pub fn column_top(
             }
         }
     }
-    bail!("{named}: no drawn layer has a face of that cell")
+    bail!("{named}: no drawn layer has a face of that cell (inactive or pinched out)")
 }
 
 /// The range of the finite `values` that a colour map spans, one unit wide when they

@@ -470,7 +470,7 @@ fn column_top(file: &LodFile, drawn: &[bool], [i, j]: [u32; 2]) -> Result<Vec3> 
             return Ok(Vec3::from(centre));
         }
     }
-    bail!("{named}: no drawn layer has a face of that cell")
+    bail!("{named}: no drawn layer has a face of that cell (inactive or pinched out)")
 }
 
 /// The vertices of `nodes` and of `sides`.
