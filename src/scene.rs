@@ -70,20 +70,34 @@ pub fn build(
 pub fn column_top(
     grid: &CornerPointGrid,
     layers: Option<Range<usize>>,
-    [i, j]: [u32; 2],
+    cell: [u32; 2],
     origin: [f64; 3],
 ) -> Result<[f32; 3]> {
     let Dims { nx, ny, nz } = grid.dims();
+    let candidates = layers
+        .unwrap_or(0..nz)
+        .filter(|&k| grid.is_active(cell[0] as usize, cell[1] as usize, k))
+        .map(|k| Ok(layer_surface(grid, k, Face::Top, None, origin)?.cell_centre(cell)));
+    first_face_centre(cell, [nx, ny], candidates)
+}
+
+/// The first centre that `candidates` (cell `(i, j)`'s face centre on each drawn
+/// surface in turn, `None` where it has none) finds, for `--centre` on a model of
+/// `columns` columns of cells; the candidates are looked at only once the cell is
+/// known to be in the model.
+pub fn first_face_centre(
+    [i, j]: [u32; 2],
+    columns: [usize; 2],
+    candidates: impl IntoIterator<Item = Result<Option<[f32; 3]>>>,
+) -> Result<[f32; 3]> {
     let named = format!("--centre {},{}", i + 1, j + 1);
-    if i as usize >= nx || j as usize >= ny {
-        bail!("{named}: the model has {nx} x {ny} columns of cells");
+    let [ni, nj] = columns;
+    if i as usize >= ni || j as usize >= nj {
+        bail!("{named}: the model has {ni} x {nj} columns of cells");
     }
-    for k in layers.unwrap_or(0..nz) {
-        if grid.is_active(i as usize, j as usize, k) {
-            let surface = layer_surface(grid, k, Face::Top, None, origin)?;
-            if let Some(centre) = surface.cell_centre([i, j]) {
-                return Ok(centre);
-            }
+    for centre in candidates {
+        if let Some(centre) = centre? {
+            return Ok(centre);
         }
     }
     bail!("{named}: no drawn layer has a face of that cell (inactive or pinched out)")

@@ -15,7 +15,7 @@ use strata::render::wire::Drawable;
 use strata::render::{
     Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Style, TiledCells, View, WireMode,
 };
-use strata::scene::{colour_range, corner_field};
+use strata::scene::{colour_range, corner_field, first_face_centre};
 
 use super::ReadArgs;
 use super::style::{
@@ -457,20 +457,13 @@ fn sides_in_view(sides: &SurfaceMesh, camera: &Camera, aspect: f32) -> Option<Su
 
 /// Where `--centre` looks: the centre of cell `(i, j)`'s face on the first drawn
 /// layer surface that has it, read from that surface's full-resolution leaf.
-fn column_top(file: &LodFile, drawn: &[bool], [i, j]: [u32; 2]) -> Result<Vec3> {
-    let [ni, nj] = file.dims();
-    let named = format!("--centre {},{}", i + 1, j + 1);
-    if i >= ni || j >= nj {
-        bail!("{named}: the model has {ni} x {nj} columns of cells");
-    }
-    for l in (0..drawn.len()).filter(|&l| drawn[l]) {
-        if let Some(leaf) = file.leaf_of(l, [i, j])
-            && let Some(centre) = file.mesh(leaf as usize)?.cell_centre([i, j])
-        {
-            return Ok(Vec3::from(centre));
-        }
-    }
-    bail!("{named}: no drawn layer has a face of that cell (inactive or pinched out)")
+fn column_top(file: &LodFile, drawn: &[bool], cell: [u32; 2]) -> Result<Vec3> {
+    let candidates = (0..drawn.len())
+        .filter(|&l| drawn[l])
+        .filter_map(|l| file.leaf_of(l, cell))
+        .map(|leaf| Ok(file.mesh(leaf as usize)?.cell_centre(cell)));
+    let [ni, nj] = file.dims().map(|n| n as usize);
+    Ok(Vec3::from(first_face_centre(cell, [ni, nj], candidates)?))
 }
 
 /// The vertices of `nodes` and of `sides`.
