@@ -246,19 +246,39 @@ pub fn side_surfaces(
                 if !live(i, j, k) {
                     continue;
                 }
-                let value = values.map_or(f32::NAN, |v| v[[k, j, i]]);
-                // West and east faces (on pillar lines i and i + 1).
-                if i == 0 || !live(i - 1, j, k) || grid.i_face_faulted(i - 1, j, k) {
-                    builder.face(Plane::I, i, j, k, 0, value);
+                // West and east faces (on pillar lines i and i + 1), south and north.
+                let open = [
+                    (
+                        Plane::I,
+                        0,
+                        i == 0 || !live(i - 1, j, k) || grid.i_face_faulted(i - 1, j, k),
+                    ),
+                    (
+                        Plane::I,
+                        1,
+                        i + 1 == nx || !live(i + 1, j, k) || grid.i_face_faulted(i, j, k),
+                    ),
+                    (
+                        Plane::J,
+                        0,
+                        j == 0 || !live(i, j - 1, k) || grid.j_face_faulted(i, j - 1, k),
+                    ),
+                    (
+                        Plane::J,
+                        1,
+                        j + 1 == ny || !live(i, j + 1, k) || grid.j_face_faulted(i, j, k),
+                    ),
+                ];
+                if !open.iter().any(|&(.., o)| o) {
+                    continue;
                 }
-                if i + 1 == nx || !live(i + 1, j, k) || grid.i_face_faulted(i, j, k) {
-                    builder.face(Plane::I, i, j, k, 1, value);
-                }
-                if j == 0 || !live(i, j - 1, k) || grid.j_face_faulted(i, j - 1, k) {
-                    builder.face(Plane::J, i, j, k, 0, value);
-                }
-                if j + 1 == ny || !live(i, j + 1, k) || grid.j_face_faulted(i, j, k) {
-                    builder.face(Plane::J, i, j, k, 1, value);
+                let cell = Cell {
+                    ijk: [i, j, k],
+                    centre: builder.cell_centre(i, j, k),
+                    value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
+                };
+                for (plane, side, _) in open.into_iter().filter(|&(.., o)| o) {
+                    builder.face(plane, &cell, side);
                 }
             }
         }
@@ -287,9 +307,29 @@ struct SideBuilder<'g> {
     with_scalar: bool,
 }
 
+/// A cell whose side faces are being added: its indices, the centre its faces turn
+/// away from, and its property value.
+struct Cell {
+    ijk: [usize; 3],
+    centre: [f64; 3],
+    value: f32,
+}
+
 impl SideBuilder<'_> {
-    /// Adds the face of cell `(i, j, k)` on its `side` (0: low, 1: high) of `plane`.
-    fn face(&mut self, plane: Plane, i: usize, j: usize, k: usize, side: usize, value: f32) {
+    /// The centre of cell `(i, j, k)` in the display frame: the mean of its corners.
+    fn cell_centre(&self, i: usize, j: usize, k: usize) -> [f64; 3] {
+        self.grid
+            .cell_corners(i, j, k)
+            .iter()
+            .fold([0.0; 3], |sum, c| {
+                let p = CornerPointGrid::to_display(self.origin, *c);
+                std::array::from_fn(|a| sum[a] + f64::from(p[a]) / 8.0)
+            })
+    }
+
+    /// Adds the face of `cell` on its `side` (0: low, 1: high) of `plane`.
+    fn face(&mut self, plane: Plane, cell: &Cell, side: usize) {
+        let ([i, j, k], value, centre) = (cell.ijk, cell.value, cell.centre);
         // Corners (along, level): along runs over the face's two pillars.
         let corner = |along: usize, dk: usize| match plane {
             Plane::I => side + 2 * along + 4 * dk,
@@ -334,14 +374,6 @@ impl SideBuilder<'_> {
         // right-hand rule points away from its centre), whatever the handedness of
         // the grid's axes in map coordinates, so that a viewer can leave out the faces
         // that turn their back to the eye: a closed set of cells hides them.
-        let centre = self
-            .grid
-            .cell_corners(i, j, k)
-            .iter()
-            .fold([0.0; 3], |sum, c| {
-                let p = CornerPointGrid::to_display(self.origin, *c);
-                std::array::from_fn(|a| sum[a] + f64::from(p[a]) / 8.0)
-            });
         let sub = |p: [f32; 3], q: [f32; 3]| -> [f64; 3] {
             std::array::from_fn(|a| f64::from(p[a]) - f64::from(q[a]))
         };
