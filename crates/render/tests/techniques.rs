@@ -454,3 +454,90 @@ fn texture_techniques_draw_hidden_lines_suppressed_only() {
         }
     }
 }
+
+#[test]
+fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
+    // Hills (silhouettes, hidden edges behind them) under a square that hides more,
+    // seen obliquely. With the binding limit lowered to a fifth of the mesh's
+    // positions, every technique that pulls vertices from storage cuts them into
+    // chunks that each carry their own copy of the vertices they name: the frames must
+    // be those of one binding, pixel for pixel, in every hidden-line style.
+    let mut mesh = SurfaceMesh::structured(24, 16, |i, j| {
+        let (x, y) = (10.0 * i as f32 - 120.0, 10.0 * j as f32 - 80.0);
+        [x, y, 12.0 * (x / 25.0).sin() * (y / 30.0).cos()]
+    });
+    mesh.scalars = mesh.positions.iter().map(|p| p[2]).collect();
+    mesh.append(&SurfaceMesh::structured(2, 2, |i, j| {
+        [-40.0 + 30.0 * i as f32, -30.0 + 30.0 * j as f32, 25.0]
+    }));
+    let view = View {
+        camera: Camera::look_at(
+            Vec3::new(-60.0, -260.0, 140.0),
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::Z,
+        ),
+        width: SIZE,
+        height: SIZE,
+        bounds: (
+            Vec3::new(-120.0, -80.0, -12.0),
+            Vec3::new(120.0, 80.0, 25.0),
+        ),
+    };
+    let mut one_binding = renderer();
+    let mut chunked = renderer();
+    let be = backend(&chunked);
+    let positions = 12 * mesh.vertex_count() as u64;
+    chunked.gpu.limits.max_storage_buffer_binding_size = positions / 5;
+    let modes = [
+        WireMode::TexGs,
+        WireMode::Bias,
+        WireMode::Dist,
+        WireMode::IdBuffer,
+    ];
+    for mode in modes {
+        let styles: &[HiddenLines] = if mode == WireMode::TexGs {
+            &[HiddenLines::Suppressed]
+        } else {
+            &HiddenLines::ALL.map(|(_, h)| h)
+        };
+        let whole = one_binding.prepare(&mesh, mode).expect("one binding");
+        let cut = chunked.prepare(&mesh, mode).expect("in chunks");
+        // The chunks' copies of the vertices on their borders cost a little more.
+        assert!(
+            cut.bytes() > whole.bytes(),
+            "{}: {} bytes in chunks, {} in one binding",
+            mode.name(),
+            cut.bytes(),
+            whole.bytes()
+        );
+        for &hidden in styles {
+            for sigma in [1.0, 2.5] {
+                let style = strata_render::Style {
+                    hidden,
+                    ..measuring_style(sigma, Coverage::Texture)
+                };
+                let frame = |r: &mut Renderer, d: &dyn strata_render::wire::Drawable| {
+                    r.render(&[d], &view, &style)
+                        .unwrap_or_else(|e| panic!("{be} {} {}: {e}", mode.name(), hidden.name()))
+                };
+                let a = frame(&mut one_binding, whole.as_ref());
+                let b = frame(&mut chunked, cut.as_ref());
+                let lines = read(&a).count_above(0.5);
+                let diff = ImageDiff::of(&a, &b, 0);
+                eprintln!(
+                    "{be} {:8} {} σ {sigma}: {lines} line pixels, chunks against one binding: {diff}",
+                    mode.name(),
+                    hidden.name()
+                );
+                assert!(lines > 500, "{be} {}: {lines} line pixels", mode.name());
+                assert_eq!(
+                    diff.over,
+                    0,
+                    "{be} {} {} σ {sigma}: {diff}",
+                    mode.name(),
+                    hidden.name()
+                );
+            }
+        }
+    }
+}

@@ -26,8 +26,8 @@ use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
 use super::lines::{
-    EdgeTable, LazyPipelines, PassSpec, PulledVertices, bind_buffers, check_mesh, chunks, shader,
-    storage, storage_layout,
+    EDGE_VERTICES, EdgeTable, LazyPipelines, PassSpec, PulledMesh, bind_buffers, check_mesh,
+    shader, storage, storage_layout,
 };
 use super::texture::scalar_at;
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
@@ -172,24 +172,26 @@ impl Technique for BiasTechnique {
             },
             wgpu::BufferUsages::INDEX,
         );
-        let pulled = PulledVertices::new(gpu, mesh, "bias pulled vertices")?;
-        let mut bytes = vertices.size() + indices.size() + lines.size() + pulled.bytes();
+        let mut pulled = PulledMesh::new(gpu, mesh, "bias pulled vertices")?;
+        let mut bytes = vertices.size() + indices.size() + lines.size();
         let mut edge_groups = Vec::new();
-        for range in chunks(gpu, table.edges.len(), 16) {
-            let edges = storage(
-                gpu,
-                "bias edges",
-                bytemuck::cast_slice(&table.edges[range.clone()]),
-            )?;
+        pulled.for_each_chunk(gpu, &table.edges, &EDGE_VERTICES, 16, |chunk| {
+            let edges = storage(gpu, "bias edges", bytemuck::cast_slice(chunk.items))?;
             bytes += edges.size();
             let group = bind_buffers(
                 device,
                 "bias edges",
                 &self.layout,
-                &[(0, &pulled.positions), (1, &pulled.scalars), (2, &edges)],
+                &[
+                    (0, &chunk.vertices.positions),
+                    (1, &chunk.vertices.scalars),
+                    (2, &edges),
+                ],
             );
-            edge_groups.push((group, range.len() as u32));
-        }
+            edge_groups.push((group, chunk.items.len() as u32));
+            Ok(())
+        })?;
+        bytes += pulled.bytes();
         Ok(Box::new(BiasDraw {
             pipelines: self.pipelines.clone(),
             vertices,

@@ -25,8 +25,8 @@ use std::rc::Rc;
 use strata_grid::SurfaceMesh;
 
 use super::lines::{
-    EdgeTable, LazyPipelines, PassSpec, PulledVertices, bind_buffers, check_mesh, chunks, shader,
-    storage, storage_layout, triangle_records,
+    EdgeTable, LazyPipelines, PassSpec, PulledMesh, TRIANGLE_RECORD_VERTICES, bind_buffers,
+    check_mesh, shader, storage, storage_layout, triangle_records,
 };
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
 use crate::{Gpu, HiddenLines, Result};
@@ -163,28 +163,24 @@ impl Technique for DistTechnique {
 
     fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
         check_mesh(mesh)?;
-        let vertices = PulledVertices::new(gpu, mesh, "dist vertices")?;
+        let mut pulled = PulledMesh::new(gpu, mesh, "dist vertices")?;
         let records = triangle_records(mesh, &EdgeTable::new(mesh));
-        let mut bytes = vertices.bytes();
+        let mut bytes = 0;
         let mut draws = Vec::new();
         // The prepass writes 8 vec4 per triangle: two per corner, two for Gateau's lines.
-        for range in chunks(gpu, records.len(), 128) {
-            let triangles = storage(
-                gpu,
-                "dist triangles",
-                bytemuck::cast_slice(&records[range.clone()]),
-            )?;
+        pulled.for_each_chunk(gpu, &records, &TRIANGLE_RECORD_VERTICES, 128, |chunk| {
+            let triangles = storage(gpu, "dist triangles", bytemuck::cast_slice(chunk.items))?;
             let corners = gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("dist corners"),
-                size: 128 * range.len() as u64,
+                size: 128 * chunk.items.len() as u64,
                 usage: wgpu::BufferUsages::STORAGE,
                 mapped_at_creation: false,
             });
             bytes += triangles.size();
             let group = |label, layout, binding| {
                 let entries = [
-                    (0, &vertices.positions),
-                    (1, &vertices.scalars),
+                    (0, &chunk.vertices.positions),
+                    (1, &chunk.vertices.scalars),
                     (2, &triangles),
                     (binding, &corners),
                 ];
@@ -193,9 +189,11 @@ impl Technique for DistTechnique {
             draws.push(Chunk {
                 draw: group("dist", &self.layouts.draw, 4),
                 compute: group("dist prepass", &self.layouts.compute, 3),
-                triangles: range.len() as u32,
+                triangles: chunk.items.len() as u32,
             });
-        }
+            Ok(())
+        })?;
+        bytes += pulled.bytes();
         Ok(Box::new(DistDraw {
             pipelines: self.pipelines.clone(),
             prepass: self.prepass.clone(),

@@ -25,8 +25,8 @@ use std::rc::Rc;
 use strata_grid::SurfaceMesh;
 
 use super::lines::{
-    EdgeTable, LazyPipelines, PassSpec, PulledVertices, bind_buffers, check_mesh, chunks, shader,
-    storage, storage_layout, triangle_records,
+    EDGE_VERTICES, EdgeTable, LazyPipelines, PassSpec, PulledMesh, TRIANGLE_RECORD_VERTICES,
+    bind_buffers, check_mesh, shader, storage, storage_layout, triangle_records,
 };
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode, frame_target};
 use crate::renderer::frame_texture;
@@ -170,57 +170,54 @@ impl Technique for IdBufferTechnique {
     fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
         check_mesh(mesh)?;
         let device = &gpu.device;
-        let vertices = PulledVertices::new(gpu, mesh, "idbuffer vertices")?;
+        let mut pulled = PulledMesh::new(gpu, mesh, "idbuffer vertices")?;
         let table = EdgeTable::new(mesh);
         let records = triangle_records(mesh, &table);
         let polygon = |t: u32| records.get(t as usize).map_or(0, |r| r[7] + 1);
-        let edges: Vec<[u32; 4]> = table
+        // Per edge, the two records of `edges` in idbuffer.wgsl: the edge, then the
+        // polygons on either side.
+        let edges: Vec<[u32; 8]> = table
             .edges
             .iter()
             .zip(&table.triangles)
-            .flat_map(|(e, t)| [*e, [polygon(t[0]), polygon(t[1]), 0, 0]])
+            .map(|(e, t)| [e[0], e[1], e[2], e[3], polygon(t[0]), polygon(t[1]), 0, 0])
             .collect();
-        let mut bytes = vertices.bytes();
+        let mut bytes = 0;
         let mut polygons = Vec::new();
-        for range in chunks(gpu, records.len(), 32) {
-            let triangles = storage(
-                gpu,
-                "idbuffer triangles",
-                bytemuck::cast_slice(&records[range.clone()]),
-            )?;
+        pulled.for_each_chunk(gpu, &records, &TRIANGLE_RECORD_VERTICES, 32, |chunk| {
+            let triangles = storage(gpu, "idbuffer triangles", bytemuck::cast_slice(chunk.items))?;
             bytes += triangles.size();
             let group = bind_buffers(
                 device,
                 "idbuffer polygons",
                 &self.layouts.polygons,
                 &[
-                    (0, &vertices.positions),
-                    (1, &vertices.scalars),
+                    (0, &chunk.vertices.positions),
+                    (1, &chunk.vertices.scalars),
                     (2, &triangles),
                 ],
             );
-            polygons.push((group, 3 * range.len() as u32));
-        }
+            polygons.push((group, 3 * chunk.items.len() as u32));
+            Ok(())
+        })?;
         let mut lines = Vec::new();
-        for range in chunks(gpu, table.edges.len(), 32) {
-            let buffer = storage(
-                gpu,
-                "idbuffer edges",
-                bytemuck::cast_slice(&edges[2 * range.start..2 * range.end]),
-            )?;
+        pulled.for_each_chunk(gpu, &edges, &EDGE_VERTICES, 32, |chunk| {
+            let buffer = storage(gpu, "idbuffer edges", bytemuck::cast_slice(chunk.items))?;
             bytes += buffer.size();
             let group = bind_buffers(
                 device,
                 "idbuffer edges",
                 &self.layouts.edges,
                 &[
-                    (0, &vertices.positions),
-                    (1, &vertices.scalars),
+                    (0, &chunk.vertices.positions),
+                    (1, &chunk.vertices.scalars),
                     (3, &buffer),
                 ],
             );
-            lines.push((group, 6 * range.len() as u32));
-        }
+            lines.push((group, 6 * chunk.items.len() as u32));
+            Ok(())
+        })?;
+        bytes += pulled.bytes();
         Ok(Box::new(IdBufferDraw {
             device: device.clone(),
             pipelines: self.pipelines.clone(),

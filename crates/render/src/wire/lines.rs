@@ -162,15 +162,20 @@ pub(crate) fn storage(gpu: &Gpu, label: &str, data: &[u8]) -> Result<wgpu::Buffe
         }))
 }
 
-/// The vertex data every technique of this family pulls (group 1, bindings 0 and 1
-/// of lines.wgsl): positions, xyz packed, and per-vertex scalars.
+/// The vertex data every technique that pulls its vertices reads (group 1, bindings 0
+/// and 1 of lines.wgsl and of `vs_texgs`): positions, xyz packed, and per-vertex
+/// scalars.
 pub(crate) struct PulledVertices {
     pub positions: wgpu::Buffer,
     pub scalars: wgpu::Buffer,
 }
 
+/// Bytes of one vertex in the larger of [`PulledVertices`]' buffers (xyz).
+const POSITION_BYTES: usize = std::mem::size_of::<[f32; 3]>();
+
 impl PulledVertices {
-    pub fn new(gpu: &Gpu, mesh: &SurfaceMesh, label: &str) -> Result<Self> {
+    /// All the vertices of `mesh`.
+    fn whole(gpu: &Gpu, mesh: &SurfaceMesh, label: &str) -> Result<Self> {
         let scalars: Vec<f32> = (0..mesh.vertex_count())
             .map(|v| scalar_at(mesh, v))
             .collect();
@@ -180,8 +185,137 @@ impl PulledVertices {
         })
     }
 
-    pub fn bytes(&self) -> u64 {
+    /// The vertices `which` of `mesh`, in that order.
+    fn gather(gpu: &Gpu, mesh: &SurfaceMesh, which: &[u32], label: &str) -> Result<Self> {
+        let positions: Vec<[f32; 3]> = which.iter().map(|&v| mesh.positions[v as usize]).collect();
+        let scalars: Vec<f32> = which.iter().map(|&v| scalar_at(mesh, v as usize)).collect();
+        Ok(PulledVertices {
+            positions: storage(gpu, label, bytemuck::cast_slice(&positions))?,
+            scalars: storage(gpu, label, bytemuck::cast_slice(&scalars))?,
+        })
+    }
+
+    fn bytes(&self) -> u64 {
         self.positions.size() + self.scalars.size()
+    }
+}
+
+/// Fields of a [`triangle_records`] record that name vertices: its corners and the
+/// vertices across its edges.
+pub(crate) const TRIANGLE_RECORD_VERTICES: [usize; 6] = [0, 1, 2, 4, 5, 6];
+
+/// Fields of an [`EdgeTable`] edge that name vertices: all four.
+pub(crate) const EDGE_VERTICES: [usize; 4] = [0, 1, 2, 3];
+
+/// A mesh whose vertices a technique pulls from storage, cut with the technique's
+/// triangles or edges into chunks that each fit one binding.
+///
+/// While the vertices fit one binding, every chunk shares them and the items keep the
+/// mesh's vertex numbers. Beyond (about 11 M vertices at 128 MiB; meshes that paint
+/// cells flat have four per cell face), each chunk gets its own copy of the vertices
+/// its items name, renumbered in the order the items first name them. The meshes here
+/// run in (i, j) order, so a chunk's items name a compact band of vertices and the
+/// copies add little beyond the chunks' shared borders.
+pub(crate) struct PulledMesh<'m> {
+    mesh: &'m SurfaceMesh,
+    label: &'m str,
+    /// The whole mesh's vertices, when they fit one binding.
+    shared: Option<PulledVertices>,
+    /// Bytes of vertex data uploaded so far.
+    bytes: u64,
+    /// Per mesh vertex, its number in the chunk being cut ([`NONE`] outside it).
+    local: Vec<u32>,
+}
+
+/// Items of one chunk (triangle or edge records) and the vertices they pull.
+pub(crate) struct PulledChunk<'c, const N: usize> {
+    /// Which of the items given to [`PulledMesh::for_each_chunk`] this chunk holds.
+    pub range: std::ops::Range<usize>,
+    /// Those items, their vertex fields numbering `vertices`.
+    pub items: &'c [[u32; N]],
+    pub vertices: &'c PulledVertices,
+}
+
+impl<'m> PulledMesh<'m> {
+    pub fn new(gpu: &Gpu, mesh: &'m SurfaceMesh, label: &'m str) -> Result<Self> {
+        let limit = gpu.limits.max_storage_buffer_binding_size as usize;
+        let shared = if mesh.vertex_count() * POSITION_BYTES <= limit {
+            Some(PulledVertices::whole(gpu, mesh, label)?)
+        } else {
+            None
+        };
+        Ok(PulledMesh {
+            mesh,
+            label,
+            bytes: shared.as_ref().map_or(0, |v| v.bytes()),
+            shared,
+            local: Vec::new(),
+        })
+    }
+
+    /// Cuts `items`, whose fields `vertex_fields` name vertices of the mesh (or
+    /// [`NONE`]), into chunks whose buffers fit one binding: the technique's own
+    /// per-item buffers, `item_bytes` per item at most, and the vertices they pull.
+    /// Hands each chunk to `each` in order; only one chunk's copies live at a time.
+    pub fn for_each_chunk<const N: usize>(
+        &mut self,
+        gpu: &Gpu,
+        items: &[[u32; N]],
+        vertex_fields: &[usize],
+        item_bytes: usize,
+        mut each: impl FnMut(PulledChunk<'_, N>) -> Result<()>,
+    ) -> Result<()> {
+        if let Some(shared) = &self.shared {
+            for range in chunks(gpu, items.len(), item_bytes) {
+                each(PulledChunk {
+                    items: &items[range.clone()],
+                    range,
+                    vertices: shared,
+                })?;
+            }
+            return Ok(());
+        }
+        // Every item may name vertices no other item of its chunk names.
+        let per_item = item_bytes.max(vertex_fields.len() * POSITION_BYTES);
+        self.local.resize(self.mesh.vertex_count(), NONE);
+        for range in chunks(gpu, items.len(), per_item) {
+            let mut named: Vec<u32> = Vec::new();
+            let renumbered: Vec<[u32; N]> = items[range.clone()]
+                .iter()
+                .map(|item| {
+                    let mut item = *item;
+                    for &field in vertex_fields {
+                        let v = item[field];
+                        if v == NONE {
+                            continue;
+                        }
+                        let slot = &mut self.local[v as usize];
+                        if *slot == NONE {
+                            *slot = named.len() as u32;
+                            named.push(v);
+                        }
+                        item[field] = *slot;
+                    }
+                    item
+                })
+                .collect();
+            for &v in &named {
+                self.local[v as usize] = NONE;
+            }
+            let vertices = PulledVertices::gather(gpu, self.mesh, &named, self.label)?;
+            self.bytes += vertices.bytes();
+            each(PulledChunk {
+                range,
+                items: &renumbered,
+                vertices: &vertices,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Bytes of vertex data uploaded, shared or per chunk.
+    pub fn bytes(&self) -> u64 {
+        self.bytes
     }
 }
 

@@ -12,6 +12,7 @@ use strata_lod::{CellCover, CoverPiece};
 use wgpu::util::DeviceExt;
 
 use super::labels::{Labelling, label_vertices};
+use super::lines::{PulledMesh, bind_buffers, check_mesh, storage, storage_layout};
 use super::{
     Drawable, FrameTargets, PipelineContext, Technique, WireMode, texture_pipelines,
     texture_shader, texture_variant,
@@ -253,20 +254,12 @@ pub struct PulledTechnique {
 impl PulledTechnique {
     pub fn new(ctx: &PipelineContext) -> Self {
         let device = &ctx.gpu.device;
-        let entry = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("texgs storage"),
-            entries: &[entry(0), entry(1), entry(2), entry(3)],
-        });
+        let layout = storage_layout(
+            device,
+            "texgs storage",
+            &[0, 1, 2, 3],
+            wgpu::ShaderStages::VERTEX,
+        );
         let module = texture_shader(device);
         let pipelines = texture_pipelines(
             ctx,
@@ -286,57 +279,40 @@ impl Technique for PulledTechnique {
     }
 
     fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
-        if mesh.triangles.is_empty() {
-            return Err(Error::Invalid(
-                "nothing to draw: the mesh has no triangles".into(),
-            ));
-        }
+        check_mesh(mesh)?;
         let device = &gpu.device;
-        let scalars: Vec<f32> = (0..mesh.vertex_count())
-            .map(|v| scalar_at(mesh, v))
-            .collect();
         let masks: Vec<u32> = mesh.edge_mask().into_iter().map(u32::from).collect();
-        let buffers: [&[u8]; 4] = [
-            bytemuck::cast_slice(&mesh.positions),
-            bytemuck::cast_slice(&scalars),
-            bytemuck::cast_slice(&mesh.triangles),
-            bytemuck::cast_slice(&masks),
-        ];
-        let limit = gpu.limits.max_storage_buffer_binding_size as usize;
-        if let Some(too_big) = buffers.iter().find(|b| b.len() > limit) {
-            return Err(Error::Invalid(format!(
-                "texgs: a storage buffer of {} bytes exceeds this adapter's binding limit of {limit}; draw the mesh in chunks",
-                too_big.len()
-            )));
-        }
-        let buffers: Vec<wgpu::Buffer> = buffers
-            .iter()
-            .map(|contents| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("texgs"),
-                    contents,
-                    usage: wgpu::BufferUsages::STORAGE,
-                })
-            })
-            .collect();
-        let bytes = buffers.iter().map(wgpu::Buffer::size).sum();
-        let entries: Vec<wgpu::BindGroupEntry> = buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("texgs"),
-            layout: &self.layout,
-            entries: &entries,
-        });
+        let mut pulled = PulledMesh::new(gpu, mesh, "texgs vertices")?;
+        let mut bytes = 0;
+        let mut draws = Vec::new();
+        // Per triangle: three indices and the mask.
+        pulled.for_each_chunk(gpu, &mesh.triangles, &[0, 1, 2], 12, |chunk| {
+            let indices = storage(gpu, "texgs triangles", bytemuck::cast_slice(chunk.items))?;
+            let masks = storage(
+                gpu,
+                "texgs edge masks",
+                bytemuck::cast_slice(&masks[chunk.range.clone()]),
+            )?;
+            bytes += indices.size() + masks.size();
+            let group = bind_buffers(
+                device,
+                "texgs",
+                &self.layout,
+                &[
+                    (0, &chunk.vertices.positions),
+                    (1, &chunk.vertices.scalars),
+                    (2, &indices),
+                    (3, &masks),
+                ],
+            );
+            draws.push((group, 3 * chunk.items.len() as u32));
+            Ok(())
+        })?;
+        bytes += pulled.bytes();
         Ok(Box::new(PulledDraw {
             pipelines: self.pipelines.clone(),
-            bind_group,
-            vertex_count: 3 * mesh.triangles.len() as u32,
+            draws,
+            triangles: mesh.triangles.len(),
             bytes,
         }))
     }
@@ -344,8 +320,9 @@ impl Technique for PulledTechnique {
 
 struct PulledDraw {
     pipelines: [wgpu::RenderPipeline; 4],
-    bind_group: wgpu::BindGroup,
-    vertex_count: u32,
+    /// Per chunk of triangles: bind group and vertex count.
+    draws: Vec<(wgpu::BindGroup, u32)>,
+    triangles: usize,
     bytes: u64,
 }
 
@@ -354,12 +331,14 @@ impl Drawable for PulledDraw {
         let mut pass = frame.begin_pass(encoder, "texgs");
         pass.set_pipeline(&self.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_bind_group(1, &self.bind_group, &[]);
-        pass.draw(0..self.vertex_count, 0..1);
+        for (group, vertices) in &self.draws {
+            pass.set_bind_group(1, group, &[]);
+            pass.draw(0..*vertices, 0..1);
+        }
     }
 
     fn triangles(&self) -> usize {
-        self.vertex_count as usize / 3
+        self.triangles
     }
 
     fn bytes(&self) -> u64 {
