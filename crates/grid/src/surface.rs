@@ -222,12 +222,28 @@ pub fn side_surfaces(
     property: Option<&str>,
     origin: [f64; 3],
 ) -> Result<SurfaceMesh> {
+    side_surfaces_among(grid, layers.clone(), layers, property, origin)
+}
+
+/// The side faces of `layers` (as [`side_surfaces`]), a run of the layers `scene`
+/// draws: the property's values at the nodes also average the side faces of the
+/// scene's cells just above and below the run, so that runs drawn one after another
+/// colour their shared nodes as the whole scene's side faces do.
+pub fn side_surfaces_among(
+    grid: &CornerPointGrid,
+    layers: Range<usize>,
+    scene: Range<usize>,
+    property: Option<&str>,
+    origin: [f64; 3],
+) -> Result<SurfaceMesh> {
     let Dims { nx, ny, nz } = grid.dims();
-    if layers.end > nz || layers.is_empty() {
+    if scene.end > nz || layers.is_empty() || layers.start < scene.start || layers.end > scene.end {
         return Err(Error::Invalid(format!(
-            "layers {}..{} are not within the grid's 1..{nz}",
+            "layers {}..{} are not within the {}..{} drawn of the grid's 1..{nz}",
             layers.start + 1,
-            layers.end
+            layers.end,
+            scene.start + 1,
+            scene.end
         )));
     }
     let values = cell_values(grid, property)?;
@@ -240,7 +256,18 @@ pub fn side_surfaces(
         with_scalar: values.is_some(),
     };
     let live = |i: usize, j: usize, k: usize| grid.is_active(i, j, k) && !is_pinched(grid, i, j, k);
-    for k in layers {
+    // The run's own faces first; then, for the values alone, the scene's layers just
+    // outside it, whose faces share nodes with the run's.
+    let neighbours = if builder.with_scalar {
+        [
+            (layers.start > scene.start).then(|| layers.start - 1),
+            (layers.end < scene.end).then_some(layers.end),
+        ]
+    } else {
+        [None, None]
+    };
+    let values_only = neighbours.into_iter().flatten().map(|k| (k, false));
+    for (k, own) in layers.map(|k| (k, true)).chain(values_only) {
         for j in 0..ny {
             for i in 0..nx {
                 if !live(i, j, k) {
@@ -278,7 +305,11 @@ pub fn side_surfaces(
                     value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
                 };
                 for (plane, side, _) in open.into_iter().filter(|&(.., o)| o) {
-                    builder.face(plane, &cell, side);
+                    if own {
+                        builder.face(plane, &cell, side);
+                    } else {
+                        builder.add_value(plane, &cell, side);
+                    }
                 }
             }
         }
@@ -294,14 +325,17 @@ enum Plane {
     J,
 }
 
+/// What a side vertex is shared by: (plane, facing side, pillar i, pillar j, node
+/// level, depth bits).
+type VertexKey = (Plane, usize, usize, usize, usize, u32);
+
 /// Accumulates side faces, sharing vertices between faces of the same plane and
 /// facing whose corners coincide.
 struct SideBuilder<'g> {
     grid: &'g CornerPointGrid,
     origin: [f64; 3],
     mesh: SurfaceMesh,
-    /// (plane, facing side, pillar i, pillar j, node level, depth bits) -> vertex.
-    vertices: HashMap<(Plane, usize, usize, usize, usize, u32), u32>,
+    vertices: HashMap<VertexKey, u32>,
     /// Per vertex: sum and count of the cell values around it.
     sums: Vec<(f64, u32)>,
     with_scalar: bool,
@@ -327,25 +361,55 @@ impl SideBuilder<'_> {
             })
     }
 
+    /// The face of `cell` on its `side` (0: low, 1: high) of `plane`: per corner, in
+    /// order around the face, its pillar, node level and depth, the key its vertex is
+    /// shared by.
+    fn corners(plane: Plane, cell: &Cell, side: usize, grid: &CornerPointGrid) -> [VertexKey; 4] {
+        let [i, j, k] = cell.ijk;
+        // Corners (along, level): along runs over the face's two pillars.
+        [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(along, dk)| {
+            let c = match plane {
+                Plane::I => side + 2 * along + 4 * dk,
+                Plane::J => along + 2 * side + 4 * dk,
+            };
+            let (pi, pj) = (i + (c & 1), j + ((c >> 1) & 1));
+            let depth = grid.corner_depth(i, j, k, c);
+            (plane, side, pi, pj, k + dk, depth.to_bits())
+        })
+    }
+
+    /// Adds `value` to the nodes of the face of `cell` on its `side` of `plane` that
+    /// the faces added so far have, without adding the face.
+    fn add_value(&mut self, plane: Plane, cell: &Cell, side: usize) {
+        if cell.value.is_nan() {
+            return;
+        }
+        for key in Self::corners(plane, cell, side, self.grid) {
+            if let Some(&id) = self.vertices.get(&key) {
+                let s = &mut self.sums[id as usize];
+                s.0 += f64::from(cell.value);
+                s.1 += 1;
+            }
+        }
+    }
+
     /// Adds the face of `cell` on its `side` (0: low, 1: high) of `plane`.
     fn face(&mut self, plane: Plane, cell: &Cell, side: usize) {
         let ([i, j, k], value, centre) = (cell.ijk, cell.value, cell.centre);
-        // Corners (along, level): along runs over the face's two pillars.
-        let corner = |along: usize, dk: usize| match plane {
-            Plane::I => side + 2 * along + 4 * dk,
-            Plane::J => along + 2 * side + 4 * dk,
-        };
         let mut ids = [0u32; 4];
         let mut pts = [[0f32; 3]; 4];
-        for (n, (along, dk)) in [(0, 0), (1, 0), (1, 1), (0, 1)].into_iter().enumerate() {
-            let c = corner(along, dk);
-            let (pi, pj) = (i + (c & 1), j + ((c >> 1) & 1));
-            let depth = self.grid.corner_depth(i, j, k, c);
-            let key = (plane, side, pi, pj, k + dk, depth.to_bits());
+        for (n, key) in Self::corners(plane, cell, side, self.grid)
+            .into_iter()
+            .enumerate()
+        {
+            let (_, _, pi, pj, level, depth) = key;
             let point = CornerPointGrid::to_display(
                 self.origin,
-                self.grid
-                    .to_map(self.grid.point_on_pillar(pi, pj, f64::from(depth))),
+                self.grid.to_map(self.grid.point_on_pillar(
+                    pi,
+                    pj,
+                    f64::from(f32::from_bits(depth)),
+                )),
             );
             pts[n] = point;
             let along_node = if plane == Plane::I { pj } else { pi };
@@ -355,7 +419,7 @@ impl SideBuilder<'_> {
                 self.mesh.positions.push(point);
                 self.mesh
                     .texcoords
-                    .push([(2 * along_node + 1) as f32, (2 * (k + dk) + 1) as f32]);
+                    .push([(2 * along_node + 1) as f32, (2 * level + 1) as f32]);
                 self.sums.push((0.0, 0));
             }
             if !value.is_nan() {
@@ -615,6 +679,50 @@ mod tests {
                 "{outward} triangles wind outward, {inward} inward"
             );
         }
+    }
+
+    #[test]
+    fn side_faces_of_runs_of_layers_are_those_of_the_whole_scene() {
+        // Layers 1..5 of the faulted grid drawn as the runs 1..2, 2..4 and 4..5: each
+        // run's faces, corner values and coordinates, run after run, are the scene's.
+        let g = faulted();
+        let origin = g.display_origin();
+        let scene = 1..5;
+        let whole = side_surfaces(&g, scene.clone(), Some("PORO"), origin).unwrap();
+        let corners = |m: &SurfaceMesh| -> Vec<([f32; 3], [f32; 2], f32)> {
+            m.triangles
+                .iter()
+                .flatten()
+                .map(|&v| {
+                    let v = v as usize;
+                    (m.positions[v], m.texcoords[v], m.scalars[v])
+                })
+                .collect()
+        };
+        let mut runs = SurfaceMesh::with_origin(origin);
+        for run in [1..2, 2..4, 4..5] {
+            let part = side_surfaces_among(&g, run, scene.clone(), Some("PORO"), origin).unwrap();
+            runs.append(&part);
+        }
+        assert!(whole.triangle_count() > 500);
+        assert_eq!(runs.triangle_count(), whole.triangle_count());
+        let cells = |m: &SurfaceMesh| m.cell_faces.iter().map(|f| f.cell).collect::<Vec<_>>();
+        assert_eq!(cells(&runs), cells(&whole));
+        let (got, want) = (corners(&runs), corners(&whole));
+        let differ = got
+            .iter()
+            .zip(&want)
+            .filter(|(a, b)| a.0 != b.0 || a.1 != b.1 || a.2.to_bits() != b.2.to_bits())
+            .count();
+        assert_eq!(differ, 0, "{differ} of {} corners differ", want.len());
+        // A run alone averages its own cells only: the shared nodes differ.
+        let alone: Vec<_> = [1..2, 2..4, 4..5]
+            .into_iter()
+            .flat_map(|run| corners(&side_surfaces(&g, run, Some("PORO"), origin).unwrap()))
+            .collect();
+        assert!(alone.iter().zip(&want).any(|(a, b)| a.2 != b.2));
+        // A run outside the scene is refused.
+        assert!(side_surfaces_among(&g, 0..2, scene, None, origin).is_err());
     }
 
     #[test]
