@@ -72,43 +72,15 @@ impl Camera {
     /// Like [`Camera::fit`], but frames the given points (e.g. a mesh's vertices)
     /// rather than their bounding box, which is much tighter for rotated grids.
     pub fn fit_points(
-        points: impl IntoIterator<Item = Vec3> + Clone,
+        points: impl IntoIterator<Item = Vec3>,
         z_scale: f32,
         aspect: f32,
-        (azimuth_deg, elevation_deg): (f32, f32),
+        view: (f32, f32),
         distance_factor: f32,
     ) -> Self {
-        let scale = Vec3::new(1.0, 1.0, z_scale);
-        let (lo, hi) = points
-            .clone()
-            .into_iter()
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p * scale), hi.max(p * scale))
-            });
-        let centre = if lo.cmple(hi).all() {
-            0.5 * (lo + hi)
-        } else {
-            Vec3::ZERO
-        };
-        let mut c = Camera::orbit(centre, azimuth_deg, elevation_deg, 1.0);
-        c.z_scale = z_scale;
-        let forward = (c.target - c.eye).normalize();
-        let right = forward.cross(c.up).normalize();
-        let up = right.cross(forward);
-        let tan_y = (0.5 * c.fov_y_deg.to_radians()).tan();
-        let tan_x = tan_y * aspect.max(1e-3);
-        // A corner at offset p from the centre is inside the frustum from distance d
-        // along -forward when |p.right| <= tan_x (d + p.forward), likewise for up.
-        let distance = points
-            .into_iter()
-            .map(|p| {
-                let p = p * scale - centre;
-                let depth = p.dot(forward);
-                (p.dot(right).abs() / tan_x - depth).max(p.dot(up).abs() / tan_y - depth)
-            })
-            .fold(1e-6f32, f32::max);
-        c.eye = centre - forward * distance * distance_factor.max(1e-3) * 1.04;
-        c
+        let mut framing = Framing::new(z_scale, aspect, view);
+        framing.add(points);
+        framing.camera(distance_factor)
     }
 
     /// The same view moved sideways so that `point` (unscaled display frame) is at the
@@ -179,6 +151,102 @@ impl Camera {
     }
 }
 
+/// What [`Camera::fit_points`] needs to know of a set of points, gathered a part at a
+/// time: a scene drawn in parts, too large to hold at once, is framed exactly as the
+/// same points in one mesh.
+///
+/// The viewing directions depend on the view's angles alone, so each side of the
+/// picture is a linear function of a point, shifted by the centre found at the end:
+/// the largest value over the points of each of the four, and the box for the centre,
+/// are all that is kept.
+#[derive(Clone, Debug)]
+pub struct Framing {
+    z_scale: f32,
+    view: (f32, f32),
+    forward: Vec3,
+    /// Per side of the picture (right, left, up, down): the direction across the
+    /// view over the tangent of the half angle, less the forward direction. A point
+    /// fits from distance d where its value of each is at most d.
+    sides: [Vec3; 4],
+    /// The largest value of each side over the scaled points.
+    reach: [f32; 4],
+    /// Box of the points as given, and of them scaled.
+    bounds: (Vec3, Vec3),
+    scaled: (Vec3, Vec3),
+}
+
+impl Framing {
+    /// Nothing framed yet, for a picture of `aspect` (width / height) seen from
+    /// `(azimuth, elevation)` in degrees, under vertical exaggeration `z_scale`.
+    pub fn new(z_scale: f32, aspect: f32, (azimuth_deg, elevation_deg): (f32, f32)) -> Self {
+        let c = Camera::orbit(Vec3::ZERO, azimuth_deg, elevation_deg, 1.0);
+        let forward = (c.target - c.eye).normalize();
+        let right = forward.cross(c.up).normalize();
+        let up = right.cross(forward);
+        let tan_y = (0.5 * c.fov_y_deg.to_radians()).tan();
+        let tan_x = tan_y * aspect.max(1e-3);
+        let empty = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        Framing {
+            z_scale,
+            view: (azimuth_deg, elevation_deg),
+            forward,
+            sides: [
+                right / tan_x - forward,
+                -right / tan_x - forward,
+                up / tan_y - forward,
+                -up / tan_y - forward,
+            ],
+            reach: [f32::NEG_INFINITY; 4],
+            bounds: empty,
+            scaled: empty,
+        }
+    }
+
+    /// Adds `points` (unscaled display frame).
+    pub fn add(&mut self, points: impl IntoIterator<Item = Vec3>) {
+        let scale = Vec3::new(1.0, 1.0, self.z_scale);
+        for p in points {
+            let q = p * scale;
+            self.bounds = (self.bounds.0.min(p), self.bounds.1.max(p));
+            self.scaled = (self.scaled.0.min(q), self.scaled.1.max(q));
+            for (reach, side) in self.reach.iter_mut().zip(&self.sides) {
+                *reach = reach.max(q.dot(*side));
+            }
+        }
+    }
+
+    /// The box of the points added (unscaled), `None` before any.
+    pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
+        self.bounds
+            .0
+            .cmple(self.bounds.1)
+            .all()
+            .then_some(self.bounds)
+    }
+
+    /// The orbit camera around the centre of the points' box at the distance where all
+    /// of them just fit, times `distance_factor` (above 1 leaves a margin, below 1
+    /// zooms in).
+    pub fn camera(&self, distance_factor: f32) -> Camera {
+        let (lo, hi) = self.scaled;
+        let centre = if lo.cmple(hi).all() {
+            0.5 * (lo + hi)
+        } else {
+            Vec3::ZERO
+        };
+        let distance = self
+            .reach
+            .iter()
+            .zip(&self.sides)
+            .map(|(reach, side)| reach - centre.dot(*side))
+            .fold(1e-6f32, f32::max);
+        let mut c = Camera::orbit(centre, self.view.0, self.view.1, 1.0);
+        c.z_scale = self.z_scale;
+        c.eye = centre - self.forward * distance * distance_factor.max(1e-3) * 1.04;
+        c
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -230,6 +298,46 @@ mod tests {
         };
         // 35 degrees of height at 1.5 wide: half the width is tan(17.5) * 1.5 = 0.47.
         assert!(inside(aside(0.45)) && !inside(aside(0.5)));
+    }
+
+    #[test]
+    fn a_framing_gathered_in_parts_is_the_framing_of_all_the_points() {
+        // A tilted, offset cloud of points far from the origin.
+        let points: Vec<Vec3> = (0..500)
+            .map(|n| {
+                let t = n as f32 * 0.37;
+                Vec3::new(
+                    4.0e4 + 900.0 * t.sin() + 3.0 * n as f32,
+                    -2.0e4 + 400.0 * (1.3 * t).cos(),
+                    -1500.0 + 60.0 * (0.7 * t).sin(),
+                )
+            })
+            .collect();
+        let (aspect, view) = (1.5, (30.0, 35.0));
+        let whole = Camera::fit_points(points.iter().copied(), 5.0, aspect, view, 1.0);
+        let mut framing = Framing::new(5.0, aspect, view);
+        for part in points.chunks(77).rev() {
+            framing.add(part.iter().copied());
+        }
+        assert_eq!(framing.camera(1.0), whole);
+        let (lo, hi) = framing.bounds().expect("points were added");
+        assert!(
+            points
+                .iter()
+                .all(|p| p.cmpge(lo).all() && p.cmple(hi).all())
+        );
+        assert!(Framing::new(5.0, aspect, view).bounds().is_none());
+        // Every point in the picture, and the tightest on its border.
+        let (near, far) = whole.depth_range(lo, hi);
+        let vp = whole.view_proj(aspect, near, far);
+        let reach = points
+            .iter()
+            .map(|&p| {
+                let ndc = vp.project_point3(p);
+                ndc.x.abs().max(ndc.y.abs())
+            })
+            .fold(0f32, f32::max);
+        assert!(reach <= 1.0 && reach > 0.9, "the farthest point at {reach}");
     }
 
     #[test]

@@ -14,7 +14,7 @@ mod timing;
 mod visibility;
 pub mod wire;
 
-pub use camera::Camera;
+pub use camera::{Camera, Framing};
 pub use error::{Error, Result};
 /// The vector crate of the public API (cameras and bounds are `glam` types).
 pub use glam;
