@@ -14,7 +14,7 @@ use crate::wire::{
     self, COLOR_FORMAT, CellDraw, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique,
     WireMode, WireTextureSpec,
 };
-use crate::{Camera, Colormap, Coverage, Error, Gpu, Result, Style};
+use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Style};
 
 /// What to look at: camera, image size, and the scene's bounds (unscaled display
 /// frame) from which the depth range is fitted.
@@ -479,13 +479,7 @@ impl Renderer {
         view: &View,
         style: &Style,
     ) -> Result<wgpu::CommandEncoder> {
-        if let Some(item) = items.iter().find(|i| !i.supports(style.hidden)) {
-            return Err(Error::Invalid(format!(
-                "the wireframe technique of a {}-triangle mesh cannot draw hidden lines as {} (the texture techniques draw tehs only)",
-                item.triangles(),
-                style.hidden.name()
-            )));
-        }
+        check_hidden(items, style)?;
         self.set_frame(view, style)?;
         let targets = self
             .targets
@@ -516,6 +510,22 @@ impl Renderer {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        self.encode_items(&mut encoder, items, view, style)?;
+        Ok(encoder)
+    }
+
+    /// Records `items` into the frame's targets as they are (no clear).
+    fn encode_items(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        items: &[&dyn Drawable],
+        view: &View,
+        style: &Style,
+    ) -> Result<()> {
+        let targets = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("no render targets".into()))?;
         let frame = FrameTargets {
             color: &targets.color_view,
             depth: &targets.depth_view,
@@ -525,9 +535,9 @@ impl Renderer {
             style,
         };
         for item in items {
-            item.encode(&frame, &mut encoder);
+            item.encode(&frame, encoder);
         }
-        Ok(encoder)
+        Ok(())
     }
 
     /// Draws a frame and waits for it, without reading it back (for timing).
@@ -560,7 +570,78 @@ impl Renderer {
             .gpu
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
-        let mut encoder = self.encode_frame(items, view, style)?;
+        let submitted = self
+            .encode_frame(items, view, style)
+            .and_then(|encoder| self.submit_with_copy(encoder));
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(e.to_string()));
+        }
+        submitted?;
+        self.read_pixels()
+    }
+
+    /// Draws a frame of parts that `next` makes one at a time (`None` when there are
+    /// no more) and returns its pixels. Each part is drawn and waited for before the
+    /// next is made, and then dropped: a scene too large to hold at once draws in the
+    /// memory of its largest part. The frame is the one [`Renderer::render`] draws of
+    /// all the parts at once wherever no part's drawing looks at what another drew, as
+    /// with hidden lines suppressed; [`Renderer::render`]'s other styles dash the lines
+    /// behind the depth of everything drawn before them, which parts cannot know.
+    pub fn render_parts<E: From<Error>>(
+        &mut self,
+        view: &View,
+        style: &Style,
+        mut next: impl FnMut(&mut Renderer) -> std::result::Result<Option<Box<dyn Drawable>>, E>,
+    ) -> std::result::Result<RgbaImage, E> {
+        if style.hidden != HiddenLines::Suppressed {
+            return Err(Error::Invalid(format!(
+                "hidden lines {} need the whole scene at once; a scene drawn in parts suppresses them (tehs)",
+                style.hidden.name()
+            ))
+            .into());
+        }
+        let scope = self
+            .gpu
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let cleared = self.encode_frame(&[], view, style).map(|encoder| {
+            self.gpu.queue.submit([encoder.finish()]);
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(Error::Gpu(e.to_string()).into());
+        }
+        cleared?;
+        while let Some(part) = next(self)? {
+            check_hidden(&[part.as_ref()], style)?;
+            if !part.draws_alone() {
+                return Err(Error::Invalid(format!(
+                    "the wireframe technique of a {}-triangle part draws it with the others at once, not in parts",
+                    part.triangles()
+                ))
+                .into());
+            }
+            let scope = self
+                .gpu
+                .device
+                .push_error_scope(wgpu::ErrorFilter::Validation);
+            let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+            let drawn = self
+                .encode_items(&mut encoder, &[part.as_ref()], view, style)
+                .map(|()| self.gpu.queue.submit([encoder.finish()]));
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(Error::Gpu(e.to_string()).into());
+            }
+            drawn?;
+            self.gpu.wait()?;
+        }
+        let encoder = self.gpu.device.create_command_encoder(&Default::default());
+        self.submit_with_copy(encoder)?;
+        Ok(self.read_pixels()?)
+    }
+
+    /// Submits `encoder` with the copy of the frame into the readback buffer after
+    /// what it records.
+    fn submit_with_copy(&self, mut encoder: wgpu::CommandEncoder) -> Result<()> {
         let targets = self
             .targets
             .as_ref()
@@ -582,9 +663,15 @@ impl Renderer {
             },
         );
         self.gpu.queue.submit([encoder.finish()]);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::Gpu(e.to_string()));
-        }
+        Ok(())
+    }
+
+    /// Waits for the frame in the readback buffer and returns its pixels.
+    fn read_pixels(&self) -> Result<RgbaImage> {
+        let targets = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("no render targets".into()))?;
         self.gpu.map_read(&targets.readback)?;
         let slice = targets.readback.slice(..);
         let (w, h, row) = (
@@ -604,6 +691,18 @@ impl Renderer {
         targets.readback.unmap();
         RgbaImage::from_raw(targets.width, targets.height, pixels)
             .ok_or_else(|| Error::Gpu("readback size mismatch".into()))
+    }
+}
+
+/// Refuses items whose technique cannot draw hidden lines as `style` asks.
+fn check_hidden(items: &[&dyn Drawable], style: &Style) -> Result<()> {
+    match items.iter().find(|i| !i.supports(style.hidden)) {
+        Some(item) => Err(Error::Invalid(format!(
+            "the wireframe technique of a {}-triangle mesh cannot draw hidden lines as {} (the texture techniques draw tehs only)",
+            item.triangles(),
+            style.hidden.name()
+        ))),
+        None => Ok(()),
     }
 }
 

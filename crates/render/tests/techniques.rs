@@ -455,21 +455,17 @@ fn texture_techniques_draw_hidden_lines_suppressed_only() {
     }
 }
 
-#[test]
-fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
-    // Hills (silhouettes, hidden edges behind them) under a square that hides more,
-    // seen obliquely. With the binding limit lowered to a fifth of the mesh's
-    // positions, every technique that pulls vertices from storage cuts them into
-    // chunks that each carry their own copy of the vertices they name: the frames must
-    // be those of one binding, pixel for pixel, in every hidden-line style.
-    let mut mesh = SurfaceMesh::structured(24, 16, |i, j| {
+/// Hills (silhouettes, hidden edges behind them) and a square above them that hides
+/// more, seen obliquely.
+fn hills_under_a_square() -> (SurfaceMesh, SurfaceMesh, View) {
+    let mut hills = SurfaceMesh::structured(24, 16, |i, j| {
         let (x, y) = (10.0 * i as f32 - 120.0, 10.0 * j as f32 - 80.0);
         [x, y, 12.0 * (x / 25.0).sin() * (y / 30.0).cos()]
     });
-    mesh.scalars = mesh.positions.iter().map(|p| p[2]).collect();
-    mesh.append(&SurfaceMesh::structured(2, 2, |i, j| {
+    hills.scalars = hills.positions.iter().map(|p| p[2]).collect();
+    let square = SurfaceMesh::structured(2, 2, |i, j| {
         [-40.0 + 30.0 * i as f32, -30.0 + 30.0 * j as f32, 25.0]
-    }));
+    });
     let view = View {
         camera: Camera::look_at(
             Vec3::new(-60.0, -260.0, 140.0),
@@ -483,6 +479,17 @@ fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
             Vec3::new(120.0, 80.0, 25.0),
         ),
     };
+    (hills, square, view)
+}
+
+#[test]
+fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
+    // With the binding limit lowered to a fifth of the mesh's positions, every
+    // technique that pulls vertices from storage cuts them into chunks that each
+    // carry their own copy of the vertices they name: the frames must be those of one
+    // binding, pixel for pixel, in every hidden-line style.
+    let (mut mesh, square, view) = hills_under_a_square();
+    mesh.append(&square);
     let mut one_binding = renderer();
     let mut chunked = renderer();
     let be = backend(&chunked);
@@ -540,4 +547,46 @@ fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
             }
         }
     }
+}
+
+#[test]
+fn parts_drawn_one_after_another_give_the_frame_of_all_at_once() {
+    // The hills, then the square over them, each prepared alone: `render_parts`
+    // draws and waits for one before it is given the next. Where a technique draws
+    // alone, the frame is `render`'s of both, pixel for pixel; bias and idbuffer, and
+    // hidden-line styles other than tehs, are refused.
+    let (hills, square, view) = hills_under_a_square();
+    let mut r = renderer();
+    let be = backend(&r);
+    let style = measuring_style(2.5, Coverage::Texture);
+    for mode in WireMode::ALL {
+        let at_once = {
+            let a = r.prepare(&hills, mode).expect("hills");
+            let b = r.prepare(&square, mode).expect("square");
+            assert_eq!(a.draws_alone(), mode.draws_alone(), "{}", mode.name());
+            r.render(&[a.as_ref(), b.as_ref()], &view, &style)
+                .expect("both at once")
+        };
+        let mut queue = [&hills, &square].into_iter();
+        let in_parts = r.render_parts(&view, &style, |r| {
+            queue.next().map(|mesh| r.prepare(mesh, mode)).transpose()
+        });
+        match in_parts {
+            Ok(frame) => {
+                assert!(mode.draws_alone(), "{be} {} drew in parts", mode.name());
+                let diff = ImageDiff::of(&at_once, &frame, 0);
+                eprintln!("{be} {:8}: in parts against at once: {diff}", mode.name());
+                assert_eq!(diff.over, 0, "{be} {}: {diff}", mode.name());
+            }
+            Err(e) => assert!(!mode.draws_alone(), "{be} {}: {e}", mode.name()),
+        }
+    }
+    let dashed = strata_render::Style {
+        hidden: HiddenLines::Dashed,
+        ..style
+    };
+    let refused = r.render_parts(&view, &dashed, |r| {
+        r.prepare(&hills, WireMode::Dist).map(Some)
+    });
+    assert!(refused.is_err());
 }

@@ -267,4 +267,8 @@ impl Drawable for BiasDraw {
     fn supports(&self, _: HiddenLines) -> bool {
         true
     }
+
+    fn draws_alone(&self) -> bool {
+        WireMode::Bias.draws_alone()
+    }
 }

@@ -373,4 +373,8 @@ impl Drawable for IdBufferDraw {
     fn supports(&self, _: HiddenLines) -> bool {
         true
     }
+
+    fn draws_alone(&self) -> bool {
+        WireMode::IdBuffer.draws_alone()
+    }
 }

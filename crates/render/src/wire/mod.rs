@@ -70,6 +70,16 @@ impl WireMode {
         }
     }
 
+    /// Whether the technique's lines are drawn with its polygons, each fragment seeing
+    /// only the depth left before it, so that a scene drawn a part at a time
+    /// ([`crate::Renderer::render_parts`]) looks as drawn at once. Not `bias`, which
+    /// draws every line after every fill (a later part's fill covers the half of a
+    /// line that lay over it), nor `idbuffer`, whose ID buffer holds one drawable's
+    /// polygons.
+    pub fn draws_alone(self) -> bool {
+        !matches!(self, WireMode::Bias | WireMode::IdBuffer)
+    }
+
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL
             .into_iter()
@@ -161,6 +171,12 @@ pub trait Drawable {
     /// techniques draw lines only on visible polygon fragments (hidden suppressed).
     fn supports(&self, hidden: HiddenLines) -> bool {
         hidden == HiddenLines::Suppressed
+    }
+    /// Whether what this drawable draws depends on the others only through the depth
+    /// they left (see [`WireMode::draws_alone`]), so that drawables drawn one after
+    /// another in separate passes give the frame of all at once.
+    fn draws_alone(&self) -> bool {
+        true
     }
 }
 
