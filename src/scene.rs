@@ -5,7 +5,7 @@ use std::ops::Range;
 
 use anyhow::{Result, bail};
 use strata_grid::{
-    CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces, side_surfaces,
+    CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces, side_surfaces_among,
 };
 
 /// Which surfaces of a model to draw.
@@ -28,6 +28,34 @@ pub fn build(
     grid: &CornerPointGrid,
     options: &SceneOptions,
 ) -> Result<(SurfaceMesh, Option<(f32, f32)>)> {
+    let mut mesh = SurfaceMesh::with_origin(grid.display_origin());
+    for part in parts(grid, options, usize::MAX)? {
+        mesh.append(&build_part(grid, options, &part)?);
+    }
+    if mesh.is_empty() {
+        let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);
+        bail!(
+            "no active cell in layers {}..{}: nothing to draw",
+            layers.start + 1,
+            layers.end
+        );
+    }
+    Ok((mesh, colour_range_of(grid, options)?))
+}
+
+/// One piece of a scene drawn a part at a time ([`parts`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The top faces of a run of layers.
+    Tops(Range<usize>),
+    /// The bottom faces of the deepest layer, which close the stack.
+    Bottom(usize),
+    /// The side faces of a run of layers.
+    Sides(Range<usize>),
+}
+
+/// The layers `options` draws, checked against the model's.
+fn drawn_layers(grid: &CornerPointGrid, options: &SceneOptions) -> Result<Range<usize>> {
     let nz = grid.dims().nz;
     let layers = options.layers.clone().unwrap_or(0..nz);
     if layers.is_empty() || layers.end > nz {
@@ -37,32 +65,82 @@ pub fn build(
             layers.end
         );
     }
+    Ok(layers)
+}
+
+/// The parts of a scene, in the order its whole mesh stacks them (the tops layer by
+/// layer, the bottom, the sides layer by layer), so that drawing them one after
+/// another gives the picture of the whole mesh. The layers are cut into runs of at
+/// most `max_cells` active cells (a layer with more is a run of its own), so that no
+/// part holds more than one run's surfaces: a scene too large for memory is drawn in
+/// the memory of its largest run.
+pub fn parts(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+    max_cells: usize,
+) -> Result<Vec<Part>> {
+    let layers = drawn_layers(grid, options)?;
+    let Dims { nx, ny, .. } = grid.dims();
+    let mut runs: Vec<(Range<usize>, usize)> = Vec::new();
+    for k in layers.clone() {
+        let active = (0..ny)
+            .flat_map(|j| (0..nx).map(move |i| (i, j)))
+            .filter(|&(i, j)| grid.is_active(i, j, k))
+            .count();
+        match runs.last_mut() {
+            Some((run, cells)) if *cells + active <= max_cells => {
+                run.end = k + 1;
+                *cells += active;
+            }
+            _ => runs.push((k..k + 1, active)),
+        }
+    }
+    let mut parts: Vec<Part> = runs
+        .iter()
+        .map(|(run, _)| Part::Tops(run.clone()))
+        .collect();
+    parts.push(Part::Bottom(layers.end - 1));
+    if options.sides {
+        parts.extend(runs.into_iter().map(|(run, _)| Part::Sides(run)));
+    }
+    Ok(parts)
+}
+
+/// The surfaces of `part` of the scene `options` asks for, relative to the grid's
+/// display origin, coloured and painted as the whole scene's.
+pub fn build_part(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+    part: &Part,
+) -> Result<SurfaceMesh> {
     let origin = grid.display_origin();
     let property = options.property.as_deref();
-    let mut mesh = layer_surfaces(grid, layers.clone(), Face::Top, property, origin)?;
-    // The bottom of the deepest layer closes the stack.
-    mesh.append(&layer_surface(
-        grid,
-        layers.end - 1,
-        Face::Bottom,
-        property,
-        origin,
-    )?);
-    if options.sides {
-        mesh.append(&side_surfaces(grid, layers.clone(), property, origin)?);
-    }
-    if mesh.is_empty() {
-        bail!(
-            "no active cell in layers {}..{}: nothing to draw",
-            layers.start + 1,
-            layers.end
-        );
-    }
-    let range = property.and_then(|name| colour_range(grid.active_values(name, layers.clone())?));
-    if options.flat_cells && property.is_some() {
-        mesh = mesh.with_cell_values();
-    }
-    Ok((mesh, range))
+    let mesh = match part {
+        Part::Tops(run) => layer_surfaces(grid, run.clone(), Face::Top, property, origin)?,
+        Part::Bottom(k) => layer_surface(grid, *k, Face::Bottom, property, origin)?,
+        Part::Sides(run) => {
+            let scene = drawn_layers(grid, options)?;
+            side_surfaces_among(grid, run.clone(), scene, property, origin)?
+        }
+    };
+    Ok(if options.flat_cells && property.is_some() {
+        mesh.with_cell_values()
+    } else {
+        mesh
+    })
+}
+
+/// The range of the defined values of the property colouring the scene, over all its
+/// cells (`None` without a property or defined value).
+pub fn colour_range_of(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+) -> Result<Option<(f32, f32)>> {
+    let layers = drawn_layers(grid, options)?;
+    Ok(options
+        .property
+        .as_deref()
+        .and_then(|name| colour_range(grid.active_values(name, layers)?)))
 }
 
 /// Where `--centre` looks: the centre of cell `(i, j)`'s top face on the first of
