@@ -107,3 +107,90 @@ fn grid_only_reads_a_deck_whose_property_include_is_missing() {
     let (ok, said, _) = strata(&["info", lod_path, "--grid-only"]);
     assert!(!ok && said.contains("--grid-only need a model"), "{said}");
 }
+
+/// A scene of more active cells than `--part-cells` is drawn a run of layers at a time,
+/// each part dropped once drawn: the picture is the one mesh's, pixel for pixel, in
+/// every style that parts can draw, and what needs the whole scene at once is refused
+/// with the way out.
+#[test]
+fn a_scene_beyond_one_part_is_drawn_in_parts_as_one_mesh() {
+    use std::process::Command;
+
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let sample = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
+    let sample = sample.to_str().expect("a UTF-8 path");
+    let render = |png: &str, options: &[&str]| {
+        let png = dir.path().join(png);
+        let png = png.to_str().expect("a UTF-8 path");
+        let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args(["render", sample, "--size", "320x240", "-o", png])
+            .args(options)
+            .output()
+            .expect("the strata binary runs");
+        let said = String::from_utf8_lossy(&out.stderr).into_owned();
+        let picture = out
+            .status
+            .success()
+            .then(|| strata::render::image::open(png).expect("a PNG").to_rgba8());
+        (picture, said)
+    };
+    // No two of the sample's six layers hold 500 active cells or fewer: a run each.
+    let cases: [&[&str]; 5] = [
+        &["--sides"],
+        &["--sides", "--smooth", "--iso", "PORO"],
+        &["--sides", "--wire", "dist", "--thickness", "2.5"],
+        &["--layers", "2..5", "--sides", "--wire", "texgs"],
+        &["--sides", "--centre", "10,10", "--view", "30,35,0.3"],
+    ];
+    for options in cases {
+        let (whole, said_whole) = render("whole.png", options);
+        let with_parts = [options, &["--part-cells", "500"]].concat();
+        let (parts, said) = render("parts.png", &with_parts);
+        let (Some(whole), Some(parts)) = (whole, parts) else {
+            panic!("{options:?}:\n{said_whole}\n{said}");
+        };
+        let triangles = |s: &str| {
+            s.split(" triangles")
+                .next()
+                .and_then(|s| s.rsplit(' ').next().map(str::to_string))
+        };
+        assert_eq!(
+            triangles(&said),
+            triangles(&said_whole),
+            "{said}\n{said_whole}"
+        );
+        let layers = if options.contains(&"2..5") { 4 } else { 6 };
+        let expected = format!("in {} parts ({layers} runs of layers)", 2 * layers + 1);
+        assert!(said.contains(&expected), "{options:?}: {said}");
+        assert!(!said_whole.contains(" parts ("), "{said_whole}");
+        let background = whole.get_pixel(0, 0).0;
+        let drawn = whole.pixels().filter(|p| p.0 != background).count();
+        assert!(drawn > 10_000, "{options:?}: {drawn} pixels drawn");
+        let differ = whole
+            .pixels()
+            .zip(parts.pixels())
+            .filter(|(a, b)| a != b)
+            .count();
+        assert_eq!(differ, 0, "{options:?}: pixels drawn otherwise in parts");
+    }
+    for (options, refused) in [
+        (
+            &["--wire", "bias"][..],
+            "--wire bias draws the whole scene at once",
+        ),
+        (
+            &["--wire", "dist", "--hidden", "tehd"],
+            "--hidden tehd needs the whole scene",
+        ),
+        (&["--lod", "10"], "`strata lod build`"),
+    ] {
+        let (picture, said) = render("refused.png", &[options, &["--part-cells", "500"]].concat());
+        assert!(picture.is_none(), "{options:?} drew in parts");
+        assert!(
+            said.contains(refused) && said.contains("--part-cells 500"),
+            "{said}"
+        );
+        let (picture, said) = render("whole.png", options);
+        assert!(picture.is_some(), "{options:?} in one part: {said}");
+    }
+}

@@ -8,9 +8,10 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use strata::render::glam::Vec3;
 use strata::render::{
-    Camera, Coverage, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
+    Camera, Coverage, Framing, HiddenLines, IsolineOptions, RangeAdjust, Renderer, Style, View,
+    WireMode,
 };
-use strata::scene::{SceneOptions, build, column_top};
+use strata::scene::{self, Part, SceneOptions, build, column_top};
 
 use super::ReadArgs;
 use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso};
@@ -68,6 +69,14 @@ pub struct RenderArgs {
     /// Global wireframe only.
     #[arg(long, requires = "lod")]
     cover: bool,
+    /// Hold at most this many active cells' surfaces at a time. A scene with more is
+    /// drawn in parts (runs of layers, tops then sides), each dropped once drawn, so
+    /// that a model of any size draws in about the memory of one part; the picture is
+    /// the same. Parts leave out what needs the whole scene at once: --lod, --cover and
+    /// hidden-line styles other than tehs.
+    #[arg(long, value_name = "CELLS", default_value_t = 2_000_000,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    part_cells: u64,
 }
 
 fn parse_adjust(s: &str) -> Result<RangeAdjust, String> {
@@ -100,6 +109,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         property,
         flat_cells: !args.smooth && args.lod.is_none(),
     };
+    let parts = scene::parts(&grid, &options, args.part_cells as usize)?;
+    if parts.iter().filter(|p| matches!(p, Part::Tops(_))).count() > 1 {
+        return draw_in_parts(args, &grid, &options, parts, start);
+    }
     let (mesh, range) = build(&grid, &options)?;
     if args.cover && wire != WireMode::Global {
         bail!("--cover draws with --wire global, not {}", wire.name());
@@ -136,7 +149,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // original's values at its cells' corners.
     let iso = match &args.iso {
         Some((name, spacing)) => {
-            let (smooth, iso_range) = field_mesh(&grid, &options, name)?;
+            let (smooth_options, iso_range) = field_options(&grid, &options, name)?;
+            let (smooth, _) = build(&grid, &smooth_options)?;
             let field = match (&mut cells, args.lod) {
                 (Some(cells), Some(_)) => {
                     cells.corners = Some(
@@ -154,7 +168,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
         None => None,
     };
-    let loaded = start.elapsed();
+    let loaded = Instant::now();
 
     let mut renderer = Renderer::headless()?;
     let drawable = match (&cells, &iso) {
@@ -208,11 +222,32 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
     strata::render::save_png(&image, &args.output)?;
+    let drawn = format!("{} triangles", mesh.triangle_count());
+    report(
+        args,
+        &renderer,
+        &style,
+        (&options, range),
+        &drawn,
+        [start, loaded],
+    );
+    Ok(())
+}
+
+/// Prints what `render` drew, in how long and on what: `drawn` says how much, `times`
+/// are the start and how long reading and building took.
+fn report(
+    args: &RenderArgs,
+    renderer: &Renderer,
+    style: &Style,
+    (options, range): (&SceneOptions, Option<(f32, f32)>),
+    drawn: &str,
+    [start, loaded]: [Instant; 2],
+) {
     eprintln!(
-        "{}: {} triangles, {} wireframe ({} coverage), {}; model read in {:.2} s, frame in {:.2} s on {}",
+        "{}: {drawn}, {} wireframe ({} coverage), {}; model read in {:.2} s, frame in {:.2} s on {}",
         args.output.display(),
-        mesh.triangle_count(),
-        wire.name(),
+        args.style.wire.name(),
         match style.coverage {
             Coverage::Texture => "texture",
             Coverage::Analytic => "analytic",
@@ -221,20 +256,161 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             (Some(p), Some((lo, hi))) => format!("{p} {lo:.4}..{hi:.4}"),
             _ => "solid colour".to_string(),
         },
-        loaded.as_secs_f64(),
-        (start.elapsed() - loaded).as_secs_f64(),
+        (loaded - start).as_secs_f64(),
+        loaded.elapsed().as_secs_f64(),
         renderer.gpu.describe()
+    );
+}
+
+/// Draws a scene of more than one run of layers part by part
+/// ([`Renderer::render_parts`]): a first pass over the parts' positions frames the
+/// view as the whole mesh would be framed, a second builds, draws and drops each part.
+fn draw_in_parts(
+    args: &RenderArgs,
+    grid: &strata::grid::CornerPointGrid,
+    options: &SceneOptions,
+    parts: Vec<Part>,
+    start: Instant,
+) -> Result<()> {
+    let runs = parts.iter().filter(|p| matches!(p, Part::Tops(_))).count();
+    let cells = args.part_cells;
+    // What needs the whole scene at once is refused before the passes over the parts.
+    let whole = |what: String, instead: &str| {
+        anyhow!(
+            "{what} the whole scene at once, and these layers hold more than --part-cells \
+             {cells} active cells ({runs} runs of layers): raise --part-cells, draw fewer \
+             layers, or {instead}"
+        )
+    };
+    if args.lod.is_some() {
+        return Err(whole(
+            "--lod decimates".into(),
+            "build a hierarchy with `strata lod build` and draw it with `strata lod view`",
+        ));
+    }
+    let wire = args.style.wire;
+    if !wire.draws_alone() {
+        let alone: Vec<&str> = WireMode::ALL
+            .into_iter()
+            .filter(|m| m.draws_alone() && *m != WireMode::None)
+            .map(WireMode::name)
+            .collect();
+        let instead = format!("use --wire {}", alone.join(", "));
+        return Err(whole(format!("--wire {} draws", wire.name()), &instead));
+    }
+    if args.iso.is_some() && !matches!(wire, WireMode::Global | WireMode::None) {
+        bail!(
+            "--iso draws with --wire global or none, not {}",
+            wire.name()
+        );
+    }
+    let range = scene::colour_range_of(grid, options)?;
+    let iso = match &args.iso {
+        Some((name, spacing)) => {
+            let (smooth_options, iso_range) = field_options(grid, options, name)?;
+            Some((smooth_options, spacing.isolines(iso_range)))
+        }
+        None => None,
+    };
+    let mut renderer = Renderer::headless()?;
+    let style = Style {
+        isolines: iso.as_ref().map(|(_, isolines)| *isolines),
+        ..args.style.style(
+            renderer.gpu.info.device_type,
+            range,
+            [grid.display_origin()[0], grid.display_origin()[1]],
+        )?
+    };
+    if style.hidden != HiddenLines::Suppressed {
+        let what = format!("--hidden {} needs", style.hidden.name());
+        return Err(whole(what, "use --hidden tehs"));
+    }
+    // Where the vertices are does not depend on the colours.
+    let (az, el, dist) = args.frame.view;
+    let (width, height) = args.frame.size;
+    let mut framing = Framing::new(args.frame.zscale, width as f32 / height as f32, (az, el));
+    let shapes = SceneOptions {
+        property: None,
+        flat_cells: false,
+        ..options.clone()
+    };
+    for part in &parts {
+        let mesh = scene::build_part(grid, &shapes, part)?;
+        framing.add(mesh.positions.iter().map(|&p| Vec3::from(p)));
+    }
+    let Some(bounds) = framing.bounds() else {
+        let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);
+        bail!(
+            "no active cell in layers {}..{}: nothing to draw",
+            layers.start + 1,
+            layers.end
+        );
+    };
+    let camera = framing.camera(dist);
+    let camera = match args.frame.centre {
+        Some(cell) => camera.centred_on(Vec3::from(column_top(
+            grid,
+            options.layers.clone(),
+            cell,
+            grid.display_origin(),
+        )?)),
+        None => camera,
+    };
+    let view = View {
+        camera,
+        width,
+        height,
+        bounds,
+    };
+    let loaded = Instant::now();
+    let (mut drawn, mut triangles) = (0, 0);
+    let mut queue = parts.iter();
+    let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
+        for part in queue.by_ref() {
+            let mesh = scene::build_part(grid, options, part)?;
+            if mesh.is_empty() {
+                continue;
+            }
+            drawn += 1;
+            triangles += mesh.triangle_count();
+            let drawable = match &iso {
+                Some((smooth_options, _)) => {
+                    let smooth = scene::build_part(grid, smooth_options, part)?;
+                    let field = corner_field(options, &smooth, &mesh)?;
+                    let iso_options = IsolineOptions {
+                        adjust: args.iso_adjust,
+                        wire: wire == WireMode::Global,
+                    };
+                    r.prepare_isolines(&mesh, Some(&field), iso_options)?
+                }
+                None => r
+                    .prepare(&mesh, wire)
+                    .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
+            };
+            return Ok(Some(drawable));
+        }
+        Ok(None)
+    })?;
+    strata::render::save_png(&image, &args.output)?;
+    let what = format!("{triangles} triangles in {drawn} parts ({runs} runs of layers)");
+    report(
+        args,
+        &renderer,
+        &style,
+        (options, range),
+        &what,
+        [start, loaded],
     );
     Ok(())
 }
 
-/// The surfaces of `options` with property `name` averaged onto their nodes, whose
-/// vertex scalars are the isoline field, and the range of its defined values.
-fn field_mesh(
+/// The scene `options` asks for with property `name` averaged onto its nodes, whose
+/// values are then the isoline field, and the range of its defined values.
+fn field_options(
     grid: &strata::grid::CornerPointGrid,
     options: &SceneOptions,
     name: &str,
-) -> Result<(strata::grid::SurfaceMesh, (f32, f32))> {
+) -> Result<(SceneOptions, (f32, f32))> {
     if grid.property(name).is_none() {
         bail!("--iso: the model has no property {name}");
     }
@@ -243,9 +419,9 @@ fn field_mesh(
         flat_cells: false,
         ..options.clone()
     };
-    let (smooth, range) = build(grid, &smooth_options)?;
-    let range = range.ok_or_else(|| anyhow!("--iso: {name} has no defined value here"))?;
-    Ok((smooth, range))
+    let range = scene::colour_range_of(grid, &smooth_options)?
+        .ok_or_else(|| anyhow!("--iso: {name} has no defined value here"))?;
+    Ok((smooth_options, range))
 }
 
 /// The isoline field of `smooth` (see [`field_mesh`]) per triangle corner of `mesh`,
