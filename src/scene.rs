@@ -28,9 +28,10 @@ pub fn build(
     grid: &CornerPointGrid,
     options: &SceneOptions,
 ) -> Result<(SurfaceMesh, Option<(f32, f32)>)> {
-    let mut mesh = SurfaceMesh::with_origin(grid.display_origin());
+    let origin = grid.display_origin();
+    let mut mesh = SurfaceMesh::with_origin(origin);
     for part in parts(grid, options, usize::MAX)? {
-        mesh.append(&build_part(grid, options, &part)?);
+        mesh.append(&build_part(grid, options, &part, origin)?);
     }
     if mesh.is_empty() {
         let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);
@@ -106,14 +107,15 @@ pub fn parts(
     Ok(parts)
 }
 
-/// The surfaces of `part` of the scene `options` asks for, relative to the grid's
-/// display origin, coloured and painted as the whole scene's.
+/// The surfaces of `part` of the scene `options` asks for, relative to `origin` (the
+/// grid's display origin, which takes a pass over all its cells to find), coloured
+/// and painted as the whole scene's.
 pub fn build_part(
     grid: &CornerPointGrid,
     options: &SceneOptions,
     part: &Part,
+    origin: [f64; 3],
 ) -> Result<SurfaceMesh> {
-    let origin = grid.display_origin();
     let property = options.property.as_deref();
     let mesh = match part {
         Part::Tops(run) => layer_surfaces(grid, run.clone(), Face::Top, property, origin)?,

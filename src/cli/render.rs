@@ -312,14 +312,13 @@ fn draw_in_parts(
         }
         None => None,
     };
+    let origin = grid.display_origin();
     let mut renderer = Renderer::headless()?;
     let style = Style {
         isolines: iso.as_ref().map(|(_, isolines)| *isolines),
-        ..args.style.style(
-            renderer.gpu.info.device_type,
-            range,
-            [grid.display_origin()[0], grid.display_origin()[1]],
-        )?
+        ..args
+            .style
+            .style(renderer.gpu.info.device_type, range, [origin[0], origin[1]])?
     };
     if style.hidden != HiddenLines::Suppressed {
         let what = format!("--hidden {} needs", style.hidden.name());
@@ -335,7 +334,7 @@ fn draw_in_parts(
         ..options.clone()
     };
     for part in &parts {
-        let mesh = scene::build_part(grid, &shapes, part)?;
+        let mesh = scene::build_part(grid, &shapes, part, origin)?;
         framing.add(mesh.positions.iter().map(|&p| Vec3::from(p)));
     }
     let Some(bounds) = framing.bounds() else {
@@ -352,7 +351,7 @@ fn draw_in_parts(
             grid,
             options.layers.clone(),
             cell,
-            grid.display_origin(),
+            origin,
         )?)),
         None => camera,
     };
@@ -367,7 +366,7 @@ fn draw_in_parts(
     let mut queue = parts.iter();
     let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
         for part in queue.by_ref() {
-            let mesh = scene::build_part(grid, options, part)?;
+            let mesh = scene::build_part(grid, options, part, origin)?;
             if mesh.is_empty() {
                 continue;
             }
@@ -375,7 +374,7 @@ fn draw_in_parts(
             triangles += mesh.triangle_count();
             let drawable = match &iso {
                 Some((smooth_options, _)) => {
-                    let smooth = scene::build_part(grid, smooth_options, part)?;
+                    let smooth = scene::build_part(grid, smooth_options, part, origin)?;
                     let field = corner_field(options, &smooth, &mesh)?;
                     let iso_options = IsolineOptions {
                         adjust: args.iso_adjust,
