@@ -11,7 +11,7 @@
 
 use std::collections::BTreeMap;
 
-use ndarray::{Array3, ArrayView1, s};
+use ndarray::{Array3, s};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -320,8 +320,10 @@ impl CornerPointGrid {
     }
 
     /// Pillar `(pi, pj)` (0..=nx, 0..=ny) as top and bottom points, local coordinates.
-    pub fn pillar(&self, pi: usize, pj: usize) -> ArrayView1<'_, f64> {
-        self.coord.slice(s![pj, pi, ..])
+    /// Read by index rather than as a slice view: every corner of every surface comes
+    /// through here, and making a view cost more than the arithmetic.
+    pub fn pillar(&self, pi: usize, pj: usize) -> [f64; 6] {
+        std::array::from_fn(|n| self.coord[[pj, pi, n]])
     }
 
     /// Depth of corner `c` (Eclipse numbering, see module docs) of cell `(i, j, k)`.
