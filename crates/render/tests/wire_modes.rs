@@ -437,6 +437,26 @@ fn texgs_and_tex_draw_the_same_lines_on_an_irregular_mesh() {
 }
 
 #[test]
+fn vertices_no_triangle_uses_change_nothing() {
+    // A mesh may hold vertices that no triangle uses (side faces too small to keep
+    // leave theirs): every mode draws it as it draws the mesh without them. `tex`
+    // once indexed past its three labels with such a vertex's "unlabelled".
+    let mut r = renderer();
+    let be = backend(&r);
+    let (grid, view) = grid_and_view(6.0);
+    let mesh = grid.mesh();
+    let mut padded = mesh.clone();
+    padded.positions.push([1.0e3, 1.0e3, 1.0e3]);
+    padded.texcoords.push([0.0, 0.0]);
+    for mode in WireMode::ALL {
+        let a = draw(&mut r, &mesh, mode, &view, 2.0, Coverage::Texture);
+        let b = draw(&mut r, &padded, mode, &view, 2.0, Coverage::Texture);
+        let diff = ImageDiff::of(&a, &b, 0);
+        assert_eq!(diff.over, 0, "{be} {}: {diff}", mode.name());
+    }
+}
+
+#[test]
 fn texgs_matches_global_and_tex_shows_the_diagonals_on_a_grid() {
     // On a structured grid texgs honours the quad-diagonal mask and must draw what
     // global draws (the view keeps every cell wider than 3 sigma px: the two modes cap

@@ -37,9 +37,12 @@ impl Labelling {
 
     /// The per-vertex texture coordinates of a label: 0 at the vertex's own unit, 1 at
     /// the two others, so that unit `l` draws the edge opposite the vertex labelled `l`.
+    /// A vertex no triangle uses is left unlabelled and gets 1 at all three.
     pub fn coordinates(label: u8) -> [f32; 3] {
         let mut s = [1.0; 3];
-        s[usize::from(label)] = 0.0;
+        if let Some(own) = s.get_mut(usize::from(label)) {
+            *own = 0.0;
+        }
         s
     }
 }
