@@ -233,18 +233,36 @@ impl SurfaceMesh {
         }))
     }
 
-    /// A mesh of the same vertices with only the cell faces that `keep` keeps, and
-    /// their triangles (triangles of no cell face go).
+    /// A mesh of only the cell faces that `keep` keeps, their triangles and the
+    /// vertices those use, in the order they had (triangles of no cell face go).
     pub fn cell_faces_where(&self, mut keep: impl FnMut(&CellFace) -> bool) -> SurfaceMesh {
-        let mut out = SurfaceMesh {
-            triangles: Vec::new(),
-            cell_faces: Vec::new(),
-            ..self.clone()
-        };
-        for face in self.cell_faces.iter().filter(|f| keep(f)) {
+        let kept: Vec<&CellFace> = self.cell_faces.iter().filter(|f| keep(f)).collect();
+        let mut renumbered = vec![u32::MAX; self.vertex_count()];
+        for face in &kept {
+            for t in face.triangles {
+                for v in self.triangles[t as usize] {
+                    renumbered[v as usize] = 0;
+                }
+            }
+        }
+        let mut out = SurfaceMesh::with_origin(self.origin);
+        for (v, number) in renumbered.iter_mut().enumerate() {
+            if *number == u32::MAX {
+                continue;
+            }
+            *number = out.positions.len() as u32;
+            out.positions.push(self.positions[v]);
+            out.texcoords.push(self.texcoords[v]);
+            if let Some(&s) = self.scalars.get(v) {
+                out.scalars.push(s);
+            }
+        }
+        for face in kept {
             let t0 = out.triangles.len() as u32;
-            out.triangles
-                .extend(face.triangles.map(|t| self.triangles[t as usize]));
+            out.triangles.extend(
+                face.triangles
+                    .map(|t| self.triangles[t as usize].map(|v| renumbered[v as usize])),
+            );
             out.cell_faces.push(CellFace {
                 triangles: [t0, t0 + 1],
                 ..*face
@@ -328,6 +346,9 @@ mod tests {
         let column = m.cell_faces_where(|f| f.cell[0] == 1);
         column.validate().unwrap();
         assert_eq!((column.triangle_count(), column.cell_faces.len()), (4, 2));
+        // Only the column's own nodes, (1..=2) x (0..=2), and their coordinates.
+        assert_eq!(column.vertex_count(), 6);
+        assert_eq!(column.texcoords[0], [3.0, 1.0]);
         assert_eq!(column.cell_centre([1, 0]), m.cell_centre([1, 0]));
         assert_eq!(column.cell_centre([0, 0]), None);
     }
