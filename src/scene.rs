@@ -7,6 +7,8 @@ use anyhow::{Result, bail};
 use strata_grid::{
     CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces, side_surfaces_among,
 };
+use strata_render::Camera;
+use strata_render::glam::Vec3;
 
 /// Which surfaces of a model to draw.
 #[derive(Clone, Debug, Default)]
@@ -143,6 +145,38 @@ pub fn colour_range_of(
         .property
         .as_deref()
         .and_then(|name| colour_range(grid.active_values(name, layers)?)))
+}
+
+/// The cell faces of `mesh` that `camera` may show in a picture of `aspect` (width /
+/// height): those not wholly outside one of the picture's planes
+/// ([`Camera::frustum`]), and with `facing_only` those that face the eye. That is for
+/// side faces, which wind counter-clockwise seen from outside their cells: the cells
+/// drawn are closed by their layers' top and bottom surfaces and their other side
+/// faces, which hide a face that turns its back.
+pub fn faces_in_view(
+    mesh: &SurfaceMesh,
+    camera: &Camera,
+    aspect: f32,
+    facing_only: bool,
+) -> SurfaceMesh {
+    let planes = camera.frustum(aspect);
+    let scale = Vec3::new(1.0, 1.0, camera.z_scale);
+    let at = |v: u32| Vec3::from(mesh.positions[v as usize]) * scale;
+    let outside =
+        |plane: &[f32; 4], p: Vec3| Vec3::new(plane[0], plane[1], plane[2]).dot(p) + plane[3] < 0.0;
+    mesh.cell_faces_where(|face| {
+        let triangles = face.triangles.map(|t| mesh.triangles[t as usize].map(at));
+        let corners = || triangles.iter().flatten().copied();
+        let faces_eye = || {
+            triangles
+                .iter()
+                .any(|[a, b, c]| (*b - *a).cross(*c - *a).dot(camera.eye - *a) > 0.0)
+        };
+        (!facing_only || faces_eye())
+            && !planes
+                .iter()
+                .any(|plane| corners().all(|p| outside(plane, p)))
+    })
 }
 
 /// Where `--centre` looks: the centre of cell `(i, j)`'s top face on the first of

@@ -15,7 +15,7 @@ use strata::render::wire::Drawable;
 use strata::render::{
     Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Style, TiledCells, View, WireMode,
 };
-use strata::scene::{colour_range, corner_field, first_face_centre};
+use strata::scene::{colour_range, corner_field, faces_in_view, first_face_centre};
 
 use super::ReadArgs;
 use super::style::{
@@ -219,7 +219,9 @@ fn view(args: &ViewArgs) -> Result<()> {
         None => camera,
     };
     let mut chosen = choose(&camera, args.pixels, true);
-    let sides = sides.and_then(|sides| sides_in_view(&sides, &camera, aspect));
+    let sides = sides
+        .map(|sides| faces_in_view(&sides, &camera, aspect, true))
+        .filter(|shown| !shown.is_empty());
     let mut per_level = std::collections::BTreeMap::<u32, (usize, usize)>::new();
     for &i in &chosen {
         let n = &file.nodes()[i as usize];
@@ -428,31 +430,6 @@ fn unhidden_nodes(
         }
     }
     (at == shown.len() && kept.len() < chosen.len()).then_some((kept, kept_shown))
-}
-
-/// The side faces of `sides` that `camera` may show: not wholly outside one of the
-/// picture's planes ([`Camera::frustum`] for `aspect`), and facing the eye. Side
-/// faces wind counter-clockwise seen from outside their cells, and the cells drawn
-/// are closed by their layers' top and bottom surfaces and their other side faces,
-/// which hide a face that turns its back. `None` when none is left.
-fn sides_in_view(sides: &SurfaceMesh, camera: &Camera, aspect: f32) -> Option<SurfaceMesh> {
-    let planes = camera.frustum(aspect);
-    let scale = Vec3::new(1.0, 1.0, camera.z_scale);
-    let at = |v: u32| Vec3::from(sides.positions[v as usize]) * scale;
-    let outside =
-        |plane: &[f32; 4], p: Vec3| Vec3::new(plane[0], plane[1], plane[2]).dot(p) + plane[3] < 0.0;
-    let shown = sides.cell_faces_where(|face| {
-        let triangles = face.triangles.map(|t| sides.triangles[t as usize].map(at));
-        let corners = || triangles.iter().flatten().copied();
-        let faces_eye = triangles
-            .iter()
-            .any(|[a, b, c]| (*b - *a).cross(*c - *a).dot(camera.eye - *a) > 0.0);
-        faces_eye
-            && !planes
-                .iter()
-                .any(|plane| corners().all(|p| outside(plane, p)))
-    });
-    (!shown.is_empty()).then_some(shown)
 }
 
 /// Where `--centre` looks: the centre of cell `(i, j)`'s face on the first drawn

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
+use strata::grid::SurfaceMesh;
 use strata::render::glam::Vec3;
 use strata::render::{
     Camera, Coverage, Framing, HiddenLines, IsolineOptions, RangeAdjust, Renderer, Style, View,
@@ -362,12 +363,20 @@ fn draw_in_parts(
         bounds,
     };
     let loaded = Instant::now();
-    let (mut drawn, mut triangles) = (0, 0);
+    let aspect = width as f32 / height as f32;
+    // What a part shows: its faces not wholly off the picture, which would draw no
+    // pixel; in a close-up, most of each part goes. Side faces that turn their back
+    // stay (unlike `lod view`): at an outline they may take a pixel, and the picture
+    // is the one mesh's.
+    let in_view = |mesh: &SurfaceMesh| scene::faces_in_view(mesh, &view.camera, aspect, false);
+    let (mut drawn, mut built, mut triangles) = (0, 0, 0);
     let mut queue = parts.iter();
     let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
         for part in queue.by_ref() {
-            let mesh = scene::build_part(grid, options, part, origin)?;
-            if mesh.is_empty() {
+            let whole = scene::build_part(grid, options, part, origin)?;
+            built += whole.triangle_count();
+            let mesh = in_view(&whole);
+            if mesh.triangle_count() == 0 {
                 continue;
             }
             drawn += 1;
@@ -375,6 +384,7 @@ fn draw_in_parts(
             let drawable = match &iso {
                 Some((smooth_options, _)) => {
                     let smooth = scene::build_part(grid, smooth_options, part, origin)?;
+                    let smooth = in_view(&smooth);
                     let field = corner_field(options, &smooth, &mesh)?;
                     let iso_options = IsolineOptions {
                         adjust: args.iso_adjust,
@@ -391,7 +401,9 @@ fn draw_in_parts(
         Ok(None)
     })?;
     strata::render::save_png(&image, &args.output)?;
-    let what = format!("{triangles} triangles in {drawn} parts ({runs} runs of layers)");
+    let what = format!(
+        "{triangles} triangles (of {built} in the scene) in {drawn} parts ({runs} runs of layers)"
+    );
     report(
         args,
         &renderer,
