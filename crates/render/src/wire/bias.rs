@@ -26,8 +26,8 @@ use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
 use super::lines::{
-    EDGE_VERTICES, EdgeTable, LazyPipelines, PassSpec, PulledMesh, bind_buffers, check_mesh,
-    shader, storage, storage_layout,
+    EDGE_VERTICES, EdgeTable, LazyPipelines, PassSpec, PulledMesh, check_mesh, shader, storage,
+    storage_layout,
 };
 use super::texture::scalar_at;
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
@@ -178,16 +178,7 @@ impl Technique for BiasTechnique {
         pulled.for_each_chunk(gpu, &table.edges, &EDGE_VERTICES, 16, |chunk| {
             let edges = storage(gpu, "bias edges", bytemuck::cast_slice(chunk.items))?;
             bytes += edges.size();
-            let group = bind_buffers(
-                device,
-                "bias edges",
-                &self.layout,
-                &[
-                    (0, &chunk.vertices.positions),
-                    (1, &chunk.vertices.scalars),
-                    (2, &edges),
-                ],
-            );
+            let group = chunk.bind_group(device, "bias edges", &self.layout, &[(2, &edges)]);
             edge_groups.push((group, chunk.items.len() as u32));
             Ok(())
         })?;

@@ -25,8 +25,8 @@ use std::rc::Rc;
 use strata_grid::SurfaceMesh;
 
 use super::lines::{
-    EdgeTable, LazyPipelines, PassSpec, PulledMesh, TRIANGLE_RECORD_VERTICES, bind_buffers,
-    check_mesh, shader, storage, storage_layout, triangle_records,
+    EdgeTable, LazyPipelines, PassSpec, PulledMesh, TRIANGLE_RECORD_VERTICES, check_mesh, shader,
+    storage, storage_layout, triangle_records,
 };
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode};
 use crate::{Gpu, HiddenLines, Result};
@@ -178,13 +178,8 @@ impl Technique for DistTechnique {
             });
             bytes += triangles.size();
             let group = |label, layout, binding| {
-                let entries = [
-                    (0, &chunk.vertices.positions),
-                    (1, &chunk.vertices.scalars),
-                    (2, &triangles),
-                    (binding, &corners),
-                ];
-                bind_buffers(&gpu.device, label, layout, &entries)
+                let own = [(2, &triangles), (binding, &corners)];
+                chunk.bind_group(&gpu.device, label, layout, &own)
             };
             draws.push(Chunk {
                 draw: group("dist", &self.layouts.draw, 4),

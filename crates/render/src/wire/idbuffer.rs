@@ -26,7 +26,7 @@ use strata_grid::SurfaceMesh;
 
 use super::lines::{
     EDGE_VERTICES, EdgeTable, LazyPipelines, PassSpec, PulledMesh, TRIANGLE_RECORD_VERTICES,
-    bind_buffers, check_mesh, shader, storage, storage_layout, triangle_records,
+    check_mesh, shader, storage, storage_layout, triangle_records,
 };
 use super::{Drawable, FrameTargets, PipelineContext, Technique, WireMode, frame_target};
 use crate::renderer::frame_texture;
@@ -187,15 +187,11 @@ impl Technique for IdBufferTechnique {
         pulled.for_each_chunk(gpu, &records, &TRIANGLE_RECORD_VERTICES, 32, |chunk| {
             let triangles = storage(gpu, "idbuffer triangles", bytemuck::cast_slice(chunk.items))?;
             bytes += triangles.size();
-            let group = bind_buffers(
+            let group = chunk.bind_group(
                 device,
                 "idbuffer polygons",
                 &self.layouts.polygons,
-                &[
-                    (0, &chunk.vertices.positions),
-                    (1, &chunk.vertices.scalars),
-                    (2, &triangles),
-                ],
+                &[(2, &triangles)],
             );
             polygons.push((group, 3 * chunk.items.len() as u32));
             Ok(())
@@ -204,15 +200,11 @@ impl Technique for IdBufferTechnique {
         pulled.for_each_chunk(gpu, &edges, &EDGE_VERTICES, 32, |chunk| {
             let buffer = storage(gpu, "idbuffer edges", bytemuck::cast_slice(chunk.items))?;
             bytes += buffer.size();
-            let group = bind_buffers(
+            let group = chunk.bind_group(
                 device,
                 "idbuffer edges",
                 &self.layouts.edges,
-                &[
-                    (0, &chunk.vertices.positions),
-                    (1, &chunk.vertices.scalars),
-                    (3, &buffer),
-                ],
+                &[(3, &buffer)],
             );
             lines.push((group, 6 * chunk.items.len() as u32));
             Ok(())

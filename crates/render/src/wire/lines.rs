@@ -236,6 +236,22 @@ pub(crate) struct PulledChunk<'c, const N: usize> {
     pub vertices: &'c PulledVertices,
 }
 
+impl<const N: usize> PulledChunk<'_, N> {
+    /// A bind group of the chunk's vertices (bindings 0 and 1) and the technique's
+    /// own buffers at theirs.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        own: &[(u32, &wgpu::Buffer)],
+    ) -> wgpu::BindGroup {
+        let mut entries = vec![(0, &self.vertices.positions), (1, &self.vertices.scalars)];
+        entries.extend_from_slice(own);
+        bind_buffers(device, label, layout, &entries)
+    }
+}
+
 impl<'m> PulledMesh<'m> {
     pub fn new(gpu: &Gpu, mesh: &'m SurfaceMesh, label: &'m str) -> Result<Self> {
         let limit = gpu.limits.max_storage_buffer_binding_size as usize;
@@ -356,7 +372,7 @@ pub(crate) fn storage_layout(
 }
 
 /// A bind group of whole buffers at their bindings.
-pub(crate) fn bind_buffers(
+fn bind_buffers(
     device: &wgpu::Device,
     label: &str,
     layout: &wgpu::BindGroupLayout,

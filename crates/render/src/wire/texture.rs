@@ -12,7 +12,7 @@ use strata_lod::{CellCover, CoverPiece};
 use wgpu::util::DeviceExt;
 
 use super::labels::{Labelling, label_vertices};
-use super::lines::{PulledMesh, bind_buffers, check_mesh, storage, storage_layout};
+use super::lines::{PulledMesh, check_mesh, storage, storage_layout};
 use super::{
     Drawable, FrameTargets, PipelineContext, Technique, WireMode, texture_pipelines,
     texture_shader, texture_variant,
@@ -294,17 +294,8 @@ impl Technique for PulledTechnique {
                 bytemuck::cast_slice(&masks[chunk.range.clone()]),
             )?;
             bytes += indices.size() + masks.size();
-            let group = bind_buffers(
-                device,
-                "texgs",
-                &self.layout,
-                &[
-                    (0, &chunk.vertices.positions),
-                    (1, &chunk.vertices.scalars),
-                    (2, &indices),
-                    (3, &masks),
-                ],
-            );
+            let own = [(2, &indices), (3, &masks)];
+            let group = chunk.bind_group(device, "texgs", &self.layout, &own);
             draws.push((group, 3 * chunk.items.len() as u32));
             Ok(())
         })?;
