@@ -42,7 +42,7 @@ impl CoverageArg {
 #[derive(Args)]
 pub struct FrameArgs {
     /// Vertical exaggeration.
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, value_parser = parse_zscale)]
     pub zscale: f32,
     /// View: azimuth (degrees clockwise from north), elevation (degrees), and optionally
     /// distance as a multiple of the fitting distance.
@@ -319,9 +319,22 @@ pub(crate) fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
         .map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}")))
         .collect::<Result<_, _>>()?;
     match v.as_slice() {
+        _ if v.iter().any(|x| !x.is_finite()) => Err(format!("{s:?}: not finite")),
         [az, el] => Ok((*az, *el, 1.0)),
         [az, el, d] if *d > 0.0 => Ok((*az, *el, *d)),
         _ => Err(format!("expected AZ,EL[,DIST] with DIST > 0, got {s:?}")),
+    }
+}
+
+/// `--zscale F`: a vertical exaggeration, positive and finite (0 would flatten the
+/// model onto the map, which `--view 0,90` already shows).
+pub(crate) fn parse_zscale(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(z) if z > 0.0 && z.is_finite() => Ok(z),
+        Ok(_) => Err(format!(
+            "{s:?}: the vertical exaggeration must be positive and finite"
+        )),
+        Err(e) => Err(format!("{s:?}: {e}")),
     }
 }
 
@@ -381,6 +394,26 @@ mod tests {
         assert_eq!(parse_iso_spacing("").map(|i| i.major_every), Ok(5));
         for bad in [":0.1", "PORO:-1", "PORO:0.1:x", "PORO:0.1:2:3"] {
             assert!(parse_iso(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn views_and_exaggerations_are_finite() {
+        assert_eq!(parse_view("30,35"), Ok((30.0, 35.0, 1.0)));
+        assert_eq!(parse_view("120, -20, 0.05"), Ok((120.0, -20.0, 0.05)));
+        for bad in [
+            "nan,10",
+            "10,inf",
+            "10,20,NaN",
+            "10,20,0",
+            "10",
+            "10,20,1,2",
+        ] {
+            assert!(parse_view(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_zscale("2.5"), Ok(2.5));
+        for bad in ["0", "-1", "inf", "nan", "x"] {
+            assert!(parse_zscale(bad).is_err(), "{bad}");
         }
     }
 

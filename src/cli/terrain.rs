@@ -13,7 +13,7 @@ use strata::render::{
     WireMode,
 };
 
-use super::style::{parse_grid_lines, parse_size, parse_view};
+use super::style::{parse_grid_lines, parse_size, parse_view, parse_zscale};
 
 #[derive(Args)]
 pub struct TerrainArgs {
@@ -52,7 +52,7 @@ pub struct TerrainArgs {
     #[arg(long, default_value_t = 1.5)]
     thickness: f32,
     /// Vertical exaggeration.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, value_parser = parse_zscale)]
     zscale: f32,
     /// View: azimuth, elevation (degrees)[, distance factor].
     #[arg(long, default_value = "20,50", value_parser = parse_view)]

@@ -406,7 +406,7 @@ impl Renderer {
         }
         if !(style.thickness >= 0.5 && style.thickness.is_finite()) {
             return Err(Error::Invalid(format!(
-                "line thickness {} is below 0.5 px",
+                "line thickness {} px: it must be a finite number of at least 0.5",
                 style.thickness
             )));
         }
