@@ -203,28 +203,41 @@ fn a_scene_beyond_one_part_is_drawn_in_parts_as_one_mesh() {
     }
 }
 
-/// A model far beyond the machine's memory is refused before anything is allocated,
-/// naming what it needs and what there is, instead of aborting in the allocator.
+/// Work far beyond the machine's memory (a generated model, a generated terrain) is
+/// refused before anything is allocated, naming what it needs and what there is,
+/// instead of aborting in the allocator or growing until the OOM killer ends it.
 #[cfg(target_os = "linux")]
 #[test]
-fn synth_refuses_a_model_beyond_the_memory_there_is() {
+fn work_beyond_the_memory_there_is_is_refused_before_it_starts() {
     use std::process::Command;
 
     let dir = tempfile::tempdir().expect("a temporary folder");
-    let out = dir.path().join("huge.egrid");
-    let run = Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args([
-            "synth", "--nx", "100000", "--ny", "100000", "--nz", "100", "-o",
-        ])
-        .arg(&out)
-        .output()
-        .expect("the strata binary runs");
-    let said = String::from_utf8_lossy(&run.stderr);
-    assert_eq!(run.status.code(), Some(1), "{said}");
-    assert!(
-        said.contains("100000 x 100000 x 100 cells need about 48000.0 GB to generate")
-            && said.contains("GB of memory is available"),
-        "{said}"
-    );
-    assert!(!out.exists());
+    let cases = [
+        (
+            vec!["synth", "--nx", "100000", "--ny", "100000", "--nz", "100"],
+            "huge.egrid",
+            "100000 x 100000 x 100 cells need about 48000.0 GB to generate",
+        ),
+        (
+            vec!["terrain", "--generate", "1000000000"],
+            "huge.png",
+            "1000000000 picks need about 400.0 GB to triangulate",
+        ),
+    ];
+    for (args, file, need) in cases {
+        let out = dir.path().join(file);
+        let run = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args(&args)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .expect("the strata binary runs");
+        let said = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{args:?}: {said}");
+        assert!(
+            said.contains(need) && said.contains("GB of memory is available"),
+            "{said}"
+        );
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+    }
 }

@@ -69,3 +69,34 @@ fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) ->
     }
     Ok(())
 }
+
+/// Refuses work that needs about `needed` bytes when the system has less available
+/// (Linux's MemAvailable; elsewhere nothing is known and nothing is refused): past the
+/// memory there is, the allocator aborts or the system's OOM killer ends the run long
+/// after it started. `what` and `doing` name the work in the message.
+pub fn check_memory(needed: f64, what: &str, doing: &str) -> Result<()> {
+    if let Some(available) = available_memory()
+        && needed > available
+    {
+        anyhow::bail!(
+            "{what} need about {:.1} GB {doing}, and {:.1} GB of memory is available",
+            needed / 1e9,
+            available / 1e9
+        );
+    }
+    Ok(())
+}
+
+/// Memory the system can still give this process without swapping, in bytes.
+fn available_memory() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let kb = info
+        .lines()
+        .find_map(|l| l.strip_prefix("MemAvailable:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse::<f64>()
+        .ok()?;
+    Some(1024.0 * kb)
+}

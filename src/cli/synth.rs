@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
 use strata::grid::synth::{SynthParams, generate};
 
@@ -34,40 +34,14 @@ pub struct SynthArgs {
 /// GRDECL.
 const PEAK_BYTES_PER_CELL: f64 = 48.0;
 
-/// Memory the system can still give this process without swapping (Linux's
-/// MemAvailable), `None` where that is not known.
-fn available_memory() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let kb = info
-        .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse::<f64>()
-        .ok()?;
-    Some(1024.0 * kb)
-}
-
 pub fn run(args: &SynthArgs) -> Result<()> {
     let start = Instant::now();
-    // Refused before allocating: past the memory there is, the allocator aborts or the
-    // system's OOM killer ends the run long after it started.
     let cells = (args.nx as f64) * (args.ny as f64) * (args.nz as f64);
-    let needed = cells * PEAK_BYTES_PER_CELL;
-    if let Some(available) = available_memory()
-        && needed > available
-    {
-        bail!(
-            "{} x {} x {} cells need about {:.1} GB to generate, and {:.1} GB of memory is \
-             available",
-            args.nx,
-            args.ny,
-            args.nz,
-            needed / 1e9,
-            available / 1e9
-        );
-    }
+    super::check_memory(
+        cells * PEAK_BYTES_PER_CELL,
+        &format!("{} x {} x {} cells", args.nx, args.ny, args.nz),
+        "to generate",
+    )?;
     let grid = generate(&SynthParams {
         nx: args.nx,
         ny: args.ny,

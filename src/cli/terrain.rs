@@ -86,6 +86,10 @@ fn parse_contours(s: &str) -> Result<(f32, u32), String> {
     Ok((spacing, major))
 }
 
+/// Bytes a pick costs from the triangulation to the frame, at the peak. Measured: 744
+/// MB for 1 M generated picks, 1 741 MB for 4 M.
+const TIN_BYTES_PER_PICK: f64 = 400.0;
+
 pub fn run(args: &TerrainArgs) -> Result<()> {
     let input = match (&args.points, args.generate) {
         (Some(path), None) => TerrainInput {
@@ -102,6 +106,11 @@ pub fn run(args: &TerrainArgs) -> Result<()> {
                 .collect::<Result<_, _>>()?,
         },
         (None, Some(n)) => {
+            super::check_memory(
+                n as f64 * TIN_BYTES_PER_PICK,
+                &format!("{n} picks"),
+                "to triangulate",
+            )?;
             let input = TerrainSynth {
                 points: n,
                 seed: args.seed,
@@ -116,6 +125,12 @@ pub fn run(args: &TerrainArgs) -> Result<()> {
         }
         _ => bail!("give a file of picks or --generate N"),
     };
+    let picks = input.points.len();
+    super::check_memory(
+        picks as f64 * TIN_BYTES_PER_PICK,
+        &format!("{picks} picks"),
+        "to triangulate",
+    )?;
     let tin = terrain::triangulate(&input).context("triangulating the picks")?;
     let mesh = &tin.mesh;
     if tin.duplicates > 0 || tin.conflicting_constraints > 0 {
