@@ -21,7 +21,9 @@ pub use grid::{BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, Units};
 pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;
-pub use surface::{Face, layer_surface, layer_surfaces, side_surfaces, side_surfaces_among};
+pub use surface::{
+    Face, layer_surface, layer_surface_rows, layer_surfaces, side_surfaces, side_surfaces_among,
+};
 pub use terrain::{Terrain, TerrainInput, TerrainSynth};
 
 /// What to read besides the grid geometry.

@@ -80,11 +80,34 @@ pub fn layer_surface(
     property: Option<&str>,
     origin: [f64; 3],
 ) -> Result<SurfaceMesh> {
+    layer_surface_rows(grid, k, face, property, origin, 0..grid.dims().ny)
+}
+
+/// The faces of the cells in rows `rows` (j, 0-based) of the layer surface of layer
+/// `k` ([`layer_surface`]), for a layer too large to hold at once: the nodes on the
+/// band's edges are shared, and take their values, as in the whole surface, from the
+/// cells on both sides. Bands one after another make the whole surface's faces in its
+/// order.
+pub fn layer_surface_rows(
+    grid: &CornerPointGrid,
+    k: usize,
+    face: Face,
+    property: Option<&str>,
+    origin: [f64; 3],
+    rows: Range<usize>,
+) -> Result<SurfaceMesh> {
     let Dims { nx, ny, nz } = grid.dims();
     if k >= nz {
         return Err(Error::Invalid(format!(
             "layer {} does not exist: the grid has {nz} layers",
             k + 1
+        )));
+    }
+    if rows.is_empty() || rows.end > ny {
+        return Err(Error::Invalid(format!(
+            "rows {}..{} are not within the grid's 1..{ny}",
+            rows.start + 1,
+            rows.end
         )));
     }
     let values = cell_values(grid, property)?;
@@ -96,11 +119,13 @@ pub fn layer_surface(
         CornerPointGrid::to_display(origin, grid.to_map(local))
     };
 
-    // Which cells contribute a face.
-    let kept: Vec<bool> = (0..nx * ny)
+    // Which cells contribute a face: the band's, and the rows beside it, whose cells
+    // share the nodes of the band's edges.
+    let seen = rows.start.saturating_sub(1)..(rows.end + 1).min(ny);
+    let kept: Vec<bool> = (0..nx * seen.len())
         .into_par_iter()
         .map(|c| {
-            let (i, j) = (c % nx, c / nx);
+            let (i, j) = (c % nx, seen.start + c / nx);
             if !grid.is_active(i, j, k) || is_pinched(grid, i, j, k) {
                 return false;
             }
@@ -115,16 +140,18 @@ pub fn layer_surface(
         .collect();
     let is_kept = |i: isize, j: isize| {
         i >= 0
-            && j >= 0
+            && j >= seen.start as isize
             && (i as usize) < nx
-            && (j as usize) < ny
-            && kept[j as usize * nx + i as usize]
+            && (j as usize) < seen.end
+            && kept[(j as usize - seen.start) * nx + i as usize]
     };
+    let in_band = |j: isize| j >= rows.start as isize && (j as usize) < rows.end;
 
     let mut mesh = SurfaceMesh::with_origin(origin);
-    // Vertex of each cell corner, laid out like a ZCORN layer: [2 ny][2 nx].
-    let mut corner_vertex = vec![u32::MAX; 4 * nx * ny];
-    for pj in 0..=ny {
+    // Vertex of each cell corner of the band, laid out like a ZCORN layer:
+    // [2 rows][2 nx].
+    let mut corner_vertex = vec![u32::MAX; 4 * nx * rows.len()];
+    for pj in rows.start..=rows.end {
         for pi in 0..=nx {
             // The up to four cells around the node: SW, SE, NW, NE.
             let around: [(isize, isize); 4] = [(-1, -1), (0, -1), (-1, 0), (0, 0)]
@@ -147,7 +174,8 @@ pub fn layer_surface(
                 }
             }
             let mut vertex_of_group = [u32::MAX; 4];
-            for n in (0..4).filter(|&n| present[n]) {
+            // Cells of the band only: those beside it lend their values.
+            for n in (0..4).filter(|&n| present[n] && in_band(around[n].1)) {
                 let g = group[n];
                 let (i, j) = (around[n].0 as usize, around[n].1 as usize);
                 let (di, dj) = (pi - i, pj - j);
@@ -169,17 +197,19 @@ pub fn layer_surface(
                         });
                     }
                 }
-                corner_vertex[(2 * j + dj) * 2 * nx + 2 * i + di] = vertex_of_group[g];
+                let row = j - rows.start;
+                corner_vertex[(2 * row + dj) * 2 * nx + 2 * i + di] = vertex_of_group[g];
             }
         }
     }
 
-    for j in 0..ny {
+    for j in rows.clone() {
         for i in 0..nx {
-            if !kept[j * nx + i] {
+            if !is_kept(i as isize, j as isize) {
                 continue;
             }
-            let v = |di: usize, dj: usize| corner_vertex[(2 * j + dj) * 2 * nx + 2 * i + di];
+            let row = j - rows.start;
+            let v = |di: usize, dj: usize| corner_vertex[(2 * row + dj) * 2 * nx + 2 * i + di];
             let (v00, v10, v11, v01) = (v(0, 0), v(1, 0), v(1, 1), v(0, 1));
             let t = mesh.triangles.len() as u32;
             mesh.triangles.push([v00, v10, v11]);
@@ -679,6 +709,51 @@ mod tests {
                 "{outward} triangles wind outward, {inward} inward"
             );
         }
+    }
+
+    #[test]
+    fn bands_of_rows_make_the_whole_layer_surface() {
+        // The faulted grid's layer 2, top and bottom, as bands of 1, 6 and 11 rows: the
+        // faces, band after band, carry the whole surface's corners, coordinates and
+        // node values (averaged over the faulted nodes' cells across band edges).
+        let g = faulted();
+        let origin = g.display_origin();
+        let corners = |m: &SurfaceMesh| -> Vec<([f32; 3], [f32; 2], u32)> {
+            m.triangles
+                .iter()
+                .flatten()
+                .map(|&v| {
+                    let v = v as usize;
+                    (m.positions[v], m.texcoords[v], m.scalars[v].to_bits())
+                })
+                .collect()
+        };
+        for face in [Face::Top, Face::Bottom] {
+            let whole = layer_surface(&g, 2, face, Some("PORO"), origin).unwrap();
+            let mut bands = SurfaceMesh::with_origin(origin);
+            for rows in [0..1, 1..7, 7..18] {
+                let band = layer_surface_rows(&g, 2, face, Some("PORO"), origin, rows).unwrap();
+                band.validate().unwrap();
+                // Every vertex is used: the rows beside a band lend values, not nodes.
+                let mut used = vec![false; band.vertex_count()];
+                band.triangles
+                    .iter()
+                    .flatten()
+                    .for_each(|&v| used[v as usize] = true);
+                assert!(used.iter().all(|&u| u));
+                bands.append(&band);
+            }
+            assert!(whole.triangle_count() > 500);
+            assert_eq!(bands.cell_faces.len(), whole.cell_faces.len());
+            let cells = |m: &SurfaceMesh| m.cell_faces.iter().map(|f| f.cell).collect::<Vec<_>>();
+            assert_eq!(cells(&bands), cells(&whole));
+            assert!(
+                corners(&bands) == corners(&whole),
+                "{face:?}: corners differ"
+            );
+        }
+        assert!(layer_surface_rows(&g, 2, Face::Top, None, origin, 10..19).is_err());
+        assert!(layer_surface_rows(&g, 2, Face::Top, None, origin, 4..4).is_err());
     }
 
     #[test]
