@@ -5,7 +5,8 @@ use std::ops::Range;
 
 use anyhow::{Result, bail};
 use strata_grid::{
-    CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces, side_surfaces_among,
+    CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surface_rows, layer_surfaces,
+    side_surfaces_among,
 };
 use strata_render::Camera;
 use strata_render::glam::Vec3;
@@ -51,10 +52,30 @@ pub fn build(
 pub enum Part {
     /// The top faces of a run of layers.
     Tops(Range<usize>),
+    /// The faces of the cells in rows `rows` of one layer's top or bottom: a layer
+    /// with more active cells than a part, cut into bands.
+    Band {
+        layer: usize,
+        face: Face,
+        rows: Range<usize>,
+    },
     /// The bottom faces of the deepest layer, which close the stack.
     Bottom(usize),
     /// The side faces of a run of layers.
     Sides(Range<usize>),
+}
+
+impl Part {
+    /// The active cells whose top or bottom faces the part holds (its side faces are
+    /// few beside them).
+    pub fn cells(&self, grid: &CornerPointGrid) -> usize {
+        match self {
+            Part::Tops(run) => active_cells(grid, run.clone()),
+            Part::Band { layer, rows, .. } => active_cells_in_rows(grid, *layer, rows.clone()),
+            Part::Bottom(k) => active_cells(grid, *k..*k + 1),
+            Part::Sides(_) => 0,
+        }
+    }
 }
 
 /// The layers `options` draws, checked against the model's.
@@ -74,22 +95,17 @@ fn drawn_layers(grid: &CornerPointGrid, options: &SceneOptions) -> Result<Range<
 /// The parts of a scene, in the order its whole mesh stacks them (the tops layer by
 /// layer, the bottom, the sides layer by layer), so that drawing them one after
 /// another gives the picture of the whole mesh. The layers are cut into runs of at
-/// most `max_cells` active cells (a layer with more is a run of its own), so that no
-/// part holds more than one run's surfaces: a scene too large for memory is drawn in
-/// the memory of its largest run.
+/// most `max_cells` active cells, and a layer with more into bands of rows, so that a
+/// scene too large for memory is drawn in the memory of its largest part.
 pub fn parts(
     grid: &CornerPointGrid,
     options: &SceneOptions,
     max_cells: usize,
 ) -> Result<Vec<Part>> {
     let layers = drawn_layers(grid, options)?;
-    let Dims { nx, ny, .. } = grid.dims();
     let mut runs: Vec<(Range<usize>, usize)> = Vec::new();
     for k in layers.clone() {
-        let active = (0..ny)
-            .flat_map(|j| (0..nx).map(move |i| (i, j)))
-            .filter(|&(i, j)| grid.is_active(i, j, k))
-            .count();
+        let active = active_cells(grid, k..k + 1);
         match runs.last_mut() {
             Some((run, cells)) if *cells + active <= max_cells => {
                 run.end = k + 1;
@@ -98,15 +114,64 @@ pub fn parts(
             _ => runs.push((k..k + 1, active)),
         }
     }
+    let whole_or_bands = |layer: usize, face: Face, cells: usize, whole: Part| {
+        if cells <= max_cells {
+            return vec![whole];
+        }
+        bands(grid, layer, max_cells)
+            .map(|rows| Part::Band { layer, face, rows })
+            .collect()
+    };
     let mut parts: Vec<Part> = runs
         .iter()
-        .map(|(run, _)| Part::Tops(run.clone()))
+        .flat_map(|(run, cells)| {
+            whole_or_bands(run.start, Face::Top, *cells, Part::Tops(run.clone()))
+        })
         .collect();
-    parts.push(Part::Bottom(layers.end - 1));
+    let last = layers.end - 1;
+    let last_cells = active_cells(grid, last..last + 1);
+    parts.extend(whole_or_bands(
+        last,
+        Face::Bottom,
+        last_cells,
+        Part::Bottom(last),
+    ));
     if options.sides {
         parts.extend(runs.into_iter().map(|(run, _)| Part::Sides(run)));
     }
     Ok(parts)
+}
+
+/// Layer `k`'s rows cut into bands of at most `max_cells` active cells (a row with
+/// more is a band of its own).
+fn bands(grid: &CornerPointGrid, k: usize, max_cells: usize) -> impl Iterator<Item = Range<usize>> {
+    let mut bands: Vec<(Range<usize>, usize)> = Vec::new();
+    for j in 0..grid.dims().ny {
+        let active = active_cells_in_rows(grid, k, j..j + 1);
+        match bands.last_mut() {
+            Some((rows, cells)) if *cells + active <= max_cells => {
+                rows.end = j + 1;
+                *cells += active;
+            }
+            _ => bands.push((j..j + 1, active)),
+        }
+    }
+    bands.into_iter().map(|(rows, _)| rows)
+}
+
+/// The active cells of `layers`.
+pub fn active_cells(grid: &CornerPointGrid, layers: Range<usize>) -> usize {
+    layers
+        .map(|k| active_cells_in_rows(grid, k, 0..grid.dims().ny))
+        .sum()
+}
+
+/// The active cells of rows `rows` of layer `k`.
+fn active_cells_in_rows(grid: &CornerPointGrid, k: usize, rows: Range<usize>) -> usize {
+    let nx = grid.dims().nx;
+    rows.flat_map(|j| (0..nx).map(move |i| (i, j)))
+        .filter(|&(i, j)| grid.is_active(i, j, k))
+        .count()
 }
 
 /// The surfaces of `part` of the scene `options` asks for, relative to `origin` (the
@@ -121,6 +186,9 @@ pub fn build_part(
     let property = options.property.as_deref();
     let mesh = match part {
         Part::Tops(run) => layer_surfaces(grid, run.clone(), Face::Top, property, origin)?,
+        Part::Band { layer, face, rows } => {
+            layer_surface_rows(grid, *layer, *face, property, origin, rows.clone())?
+        }
         Part::Bottom(k) => layer_surface(grid, *k, Face::Bottom, property, origin)?,
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
