@@ -123,6 +123,7 @@ fn build(args: &BuildArgs) -> Result<()> {
             ..Options::default()
         },
         progress: true,
+        memory: super::available_memory().map(|bytes| bytes as u64),
         ..BuildOptions::default()
     };
     let report = build_file(&grid, property.as_deref(), &args.output, &options)?;

@@ -87,8 +87,9 @@ pub fn check_memory(needed: f64, what: &str, doing: &str) -> Result<()> {
     Ok(())
 }
 
-/// Memory the system can still give this process without swapping, in bytes.
-fn available_memory() -> Option<f64> {
+/// Memory the system can still give this process without swapping, in bytes
+/// (Linux's MemAvailable; `None` where it is not known).
+pub fn available_memory() -> Option<f64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let kb = info
         .lines()

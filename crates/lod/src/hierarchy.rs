@@ -42,6 +42,9 @@ pub struct BuildOptions {
     pub decimation: Options,
     /// Draw a progress bar on standard error (only when it is a terminal).
     pub progress: bool,
+    /// Bytes the layer surfaces being built at once may hold ([`crate::build_file`]
+    /// builds fewer at a time, or refuses, to stay under it); no limit when `None`.
+    pub memory: Option<u64>,
 }
 
 impl Default for BuildOptions {
@@ -55,6 +58,7 @@ impl Default for BuildOptions {
                 ..Options::default()
             },
             progress: false,
+            memory: None,
         }
     }
 }

@@ -544,6 +544,39 @@ fn file_does_not_depend_on_the_thread_count() {
     }
 }
 
+/// With a memory budget, layers are built as many at a time as it holds: the same file
+/// as without one; below what one layer needs, a clear refusal and no file.
+#[test]
+fn a_memory_budget_limits_the_layers_built_at_once() {
+    let grid = faulted_grid(30, 20);
+    let dir = tempfile::tempdir().unwrap();
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap();
+    let build = |name: &str, memory: Option<u64>| {
+        let path = dir.path().join(name);
+        let options = BuildOptions {
+            memory,
+            ..options(4)
+        };
+        let built = pool.install(|| build_file(&grid, Some("PORO"), &path, &options));
+        (built.map(|r| r.nodes), path)
+    };
+    let (free, free_path) = build("free.lod", None);
+    // 600 cells a layer at most: room for one layer at a time, not two.
+    let (tight, tight_path) = build("tight.lod", Some(200_000));
+    assert_eq!(free.unwrap(), tight.unwrap());
+    assert!(std::fs::read(&free_path).unwrap() == std::fs::read(&tight_path).unwrap());
+    let (refused, refused_path) = build("refused.lod", Some(1_000));
+    let message = refused.expect_err("refused").to_string();
+    assert!(
+        message.contains("active cells needs about") && message.contains("GB of memory"),
+        "{message}"
+    );
+    assert!(!refused_path.exists());
+}
+
 /// A small faulted model's hierarchy saved in a fresh folder (kept while the first
 /// value lives): the file's path and its bytes, for tests that damage it.
 fn small_saved_file() -> (tempfile::TempDir, std::path::PathBuf, Vec<u8>) {
