@@ -285,7 +285,6 @@ pub fn side_surfaces_among(
         sums: Vec::new(),
         with_scalar: values.is_some(),
     };
-    let live = |i: usize, j: usize, k: usize| grid.is_active(i, j, k) && !is_pinched(grid, i, j, k);
     // The run's own faces first; then, for the values alone, the scene's layers just
     // outside it, whose faces share nodes with the run's.
     let neighbours = if builder.with_scalar {
@@ -298,48 +297,48 @@ pub fn side_surfaces_among(
     };
     let values_only = neighbours.into_iter().flatten().map(|k| (k, false));
     for (k, own) in layers.map(|k| (k, true)).chain(values_only) {
-        for j in 0..ny {
-            for i in 0..nx {
-                if !live(i, j, k) {
-                    continue;
-                }
-                // West and east faces (on pillar lines i and i + 1), south and north.
-                let open = [
-                    (
-                        Plane::I,
-                        0,
-                        i == 0 || !live(i - 1, j, k) || grid.i_face_faulted(i - 1, j, k),
-                    ),
-                    (
-                        Plane::I,
-                        1,
-                        i + 1 == nx || !live(i + 1, j, k) || grid.i_face_faulted(i, j, k),
-                    ),
-                    (
-                        Plane::J,
-                        0,
-                        j == 0 || !live(i, j - 1, k) || grid.j_face_faulted(i, j - 1, k),
-                    ),
-                    (
-                        Plane::J,
-                        1,
-                        j + 1 == ny || !live(i, j + 1, k) || grid.j_face_faulted(i, j, k),
-                    ),
-                ];
-                if !open.iter().any(|&(.., o)| o) {
-                    continue;
-                }
-                let cell = Cell {
-                    ijk: [i, j, k],
-                    centre: builder.cell_centre(i, j, k),
-                    value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
-                };
-                for (plane, side, _) in open.into_iter().filter(|&(.., o)| o) {
-                    if own {
-                        builder.face(plane, &cell, side);
-                    } else {
-                        builder.add_value(plane, &cell, side);
+        // Which cells have open sides, found in parallel: most cells have none, and
+        // testing them is most of the work. The faces are then added in (j, i) order.
+        let live: Vec<bool> = (0..nx * ny)
+            .into_par_iter()
+            .map(|c| {
+                let (i, j) = (c % nx, c / nx);
+                grid.is_active(i, j, k) && !is_pinched(grid, i, j, k)
+            })
+            .collect();
+        let live = |i: usize, j: usize| live[j * nx + i];
+        let open_cells: Vec<(Cell, [bool; 4])> = (0..ny)
+            .into_par_iter()
+            .flat_map_iter(|j| {
+                (0..nx).filter_map(move |i| {
+                    if !live(i, j) {
+                        return None;
                     }
+                    // West and east faces (on pillar lines i and i + 1), south and north.
+                    let open = [
+                        i == 0 || !live(i - 1, j) || grid.i_face_faulted(i - 1, j, k),
+                        i + 1 == nx || !live(i + 1, j) || grid.i_face_faulted(i, j, k),
+                        j == 0 || !live(i, j - 1) || grid.j_face_faulted(i, j - 1, k),
+                        j + 1 == ny || !live(i, j + 1) || grid.j_face_faulted(i, j, k),
+                    ];
+                    open.contains(&true).then(|| {
+                        let cell = Cell {
+                            ijk: [i, j, k],
+                            centre: cell_centre(grid, origin, [i, j, k]),
+                            value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
+                        };
+                        (cell, open)
+                    })
+                })
+            })
+            .collect();
+        let sides = [(Plane::I, 0), (Plane::I, 1), (Plane::J, 0), (Plane::J, 1)];
+        for (cell, open) in &open_cells {
+            for (&(plane, side), _) in sides.iter().zip(open).filter(|(_, o)| **o) {
+                if own {
+                    builder.face(plane, cell, side);
+                } else {
+                    builder.add_value(plane, cell, side);
                 }
             }
         }
@@ -379,18 +378,16 @@ struct Cell {
     value: f32,
 }
 
-impl SideBuilder<'_> {
-    /// The centre of cell `(i, j, k)` in the display frame: the mean of its corners.
-    fn cell_centre(&self, i: usize, j: usize, k: usize) -> [f64; 3] {
-        self.grid
-            .cell_corners(i, j, k)
-            .iter()
-            .fold([0.0; 3], |sum, c| {
-                let p = CornerPointGrid::to_display(self.origin, *c);
-                std::array::from_fn(|a| sum[a] + f64::from(p[a]) / 8.0)
-            })
-    }
+/// The centre of cell `(i, j, k)` in the display frame of `origin`: the mean of its
+/// corners.
+fn cell_centre(grid: &CornerPointGrid, origin: [f64; 3], [i, j, k]: [usize; 3]) -> [f64; 3] {
+    grid.cell_corners(i, j, k).iter().fold([0.0; 3], |sum, c| {
+        let p = CornerPointGrid::to_display(origin, *c);
+        std::array::from_fn(|a| sum[a] + f64::from(p[a]) / 8.0)
+    })
+}
 
+impl SideBuilder<'_> {
     /// The face of `cell` on its `side` (0: low, 1: high) of `plane`: per corner, in
     /// order around the face, its pillar, node level and depth, the key its vertex is
     /// shared by.
