@@ -37,14 +37,19 @@ pub fn build(
         mesh.append(&build_part(grid, options, &part, origin)?);
     }
     if mesh.is_empty() {
-        let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);
-        bail!(
-            "no active cell in layers {}..{}: nothing to draw",
-            layers.start + 1,
-            layers.end
-        );
+        return Err(nothing_to_draw(grid, options));
     }
     Ok((mesh, colour_range_of(grid, options)?))
+}
+
+/// The error of a scene whose layers have no face to draw.
+pub fn nothing_to_draw(grid: &CornerPointGrid, options: &SceneOptions) -> anyhow::Error {
+    let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);
+    anyhow::anyhow!(
+        "no active cell in layers {}..{}: nothing to draw",
+        layers.start + 1,
+        layers.end
+    )
 }
 
 /// One piece of a scene drawn a part at a time ([`parts`]).
@@ -103,17 +108,8 @@ pub fn parts(
     max_cells: usize,
 ) -> Result<Vec<Part>> {
     let layers = drawn_layers(grid, options)?;
-    let mut runs: Vec<(Range<usize>, usize)> = Vec::new();
-    for k in layers.clone() {
-        let active = active_cells(grid, k..k + 1);
-        match runs.last_mut() {
-            Some((run, cells)) if *cells + active <= max_cells => {
-                run.end = k + 1;
-                *cells += active;
-            }
-            _ => runs.push((k..k + 1, active)),
-        }
-    }
+    let per_layer = layers.clone().map(|k| active_cells(grid, k..k + 1));
+    let runs = runs_of(layers.start, per_layer, max_cells);
     let whole_or_bands = |layer: usize, face: Face, cells: usize, whole: Part| {
         if cells <= max_cells {
             return vec![whole];
@@ -142,21 +138,46 @@ pub fn parts(
     Ok(parts)
 }
 
+/// Whether `parts` cut the tops into more than one piece: then a scene is drawn a
+/// part at a time, not as one mesh.
+pub fn drawn_in_parts(parts: &[Part]) -> bool {
+    let tops = parts.iter().filter(|p| match p {
+        Part::Tops(_) => true,
+        Part::Band { face, .. } => *face == Face::Top,
+        Part::Bottom(_) | Part::Sides(_) => false,
+    });
+    tops.count() > 1
+}
+
 /// Layer `k`'s rows cut into bands of at most `max_cells` active cells (a row with
 /// more is a band of its own).
 fn bands(grid: &CornerPointGrid, k: usize, max_cells: usize) -> impl Iterator<Item = Range<usize>> {
-    let mut bands: Vec<(Range<usize>, usize)> = Vec::new();
-    for j in 0..grid.dims().ny {
-        let active = active_cells_in_rows(grid, k, j..j + 1);
-        match bands.last_mut() {
-            Some((rows, cells)) if *cells + active <= max_cells => {
-                rows.end = j + 1;
-                *cells += active;
+    let per_row = (0..grid.dims().ny).map(|j| active_cells_in_rows(grid, k, j..j + 1));
+    runs_of(0, per_row, max_cells)
+        .into_iter()
+        .map(|(rows, _)| rows)
+}
+
+/// Consecutive items from index `first`, of `counts` active cells each, in runs of at
+/// most `max_cells` cells (an item with more is a run of its own), with each run's
+/// cells.
+fn runs_of(
+    first: usize,
+    counts: impl IntoIterator<Item = usize>,
+    max_cells: usize,
+) -> Vec<(Range<usize>, usize)> {
+    let mut runs: Vec<(Range<usize>, usize)> = Vec::new();
+    for (n, count) in counts.into_iter().enumerate() {
+        let at = first + n;
+        match runs.last_mut() {
+            Some((run, cells)) if *cells + count <= max_cells => {
+                run.end = at + 1;
+                *cells += count;
             }
-            _ => bands.push((j..j + 1, active)),
+            _ => runs.push((at..at + 1, count)),
         }
     }
-    bands.into_iter().map(|(rows, _)| rows)
+    runs
 }
 
 /// The active cells of `layers`.

@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
-use strata::grid::{Face, SurfaceMesh};
+use strata::grid::SurfaceMesh;
 use strata::render::glam::Vec3;
 use strata::render::{
     Camera, Coverage, Framing, HiddenLines, IsolineOptions, RangeAdjust, Renderer, Style, View,
@@ -73,7 +73,8 @@ pub struct RenderArgs {
     /// Hold at most this many active cells' surfaces at a time. A scene with more is
     /// drawn in parts (runs of layers, a larger layer in bands of rows; tops, then the
     /// bottom, then sides), each dropped once drawn, so that a model of any size draws
-    /// in about the memory of one part; the picture is the same. Parts leave out what needs the whole scene at once: --lod, --cover and
+    /// in about the memory of one part; the picture is the same. Parts leave out what
+    /// needs the whole scene at once: --lod, --cover, --wire bias and idbuffer, and
     /// hidden-line styles other than tehs.
     #[arg(long, value_name = "CELLS", default_value_t = 2_000_000,
           value_parser = clap::value_parser!(u64).range(1..))]
@@ -118,31 +119,18 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         &format!("the {largest} active cells of the largest part"),
         "to draw (lower --part-cells)",
     )?;
-    let tops = parts
-        .iter()
-        .filter(|p| {
-            matches!(
-                p,
-                Part::Tops(_)
-                    | Part::Band {
-                        face: Face::Top,
-                        ..
-                    }
-            )
-        })
-        .count();
-    if tops > 1 {
-        return draw_in_parts(args, &grid, &options, parts, start);
-    }
-    let (mesh, range) = build(&grid, &options)?;
-    if args.cover && wire != WireMode::Global {
-        bail!("--cover draws with --wire global, not {}", wire.name());
-    }
     if args.iso.is_some() && !matches!(wire, WireMode::Global | WireMode::None) {
         bail!(
             "--iso draws with --wire global or none, not {}",
             wire.name()
         );
+    }
+    if scene::drawn_in_parts(&parts) {
+        return draw_in_parts(args, &grid, &options, parts, start);
+    }
+    let (mesh, range) = build(&grid, &options)?;
+    if args.cover && wire != WireMode::Global {
+        bail!("--cover draws with --wire global, not {}", wire.name());
     }
     let global = wire == WireMode::Global;
     // The global coordinates find the original's cells, their colours and isolines,
@@ -268,8 +256,8 @@ fn bytes_per_cell(wire: WireMode, iso: bool) -> f64 {
     }
 }
 
-/// Prints what `render` drew, in how long and on what: `drawn` says how much, `times`
-/// are the start and how long reading and building took.
+/// Prints what `render` drew, in how long and on what: `drawn` says how much; reading
+/// and building ran from `start` to `loaded`, drawing from then on.
 fn report(
     args: &RenderArgs,
     renderer: &Renderer,
@@ -332,12 +320,6 @@ fn draw_in_parts(
         let instead = format!("use --wire {}", alone.join(", "));
         return Err(whole(format!("--wire {} draws", wire.name()), &instead));
     }
-    if args.iso.is_some() && !matches!(wire, WireMode::Global | WireMode::None) {
-        bail!(
-            "--iso draws with --wire global or none, not {}",
-            wire.name()
-        );
-    }
     let range = scene::colour_range_of(grid, options)?;
     let iso = match &args.iso {
         Some((name, spacing)) => {
@@ -372,12 +354,7 @@ fn draw_in_parts(
         framing.add(mesh.positions.iter().map(|&p| Vec3::from(p)));
     }
     let Some(bounds) = framing.bounds() else {
-        let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);
-        bail!(
-            "no active cell in layers {}..{}: nothing to draw",
-            layers.start + 1,
-            layers.end
-        );
+        return Err(scene::nothing_to_draw(grid, options));
     };
     let camera = framing.camera(dist);
     let camera = match args.frame.centre {
@@ -467,7 +444,7 @@ fn field_options(
     Ok((smooth_options, range))
 }
 
-/// The isoline field of `smooth` (see [`field_mesh`]) per triangle corner of `mesh`,
+/// The isoline field of `smooth` (the scene of [`field_options`]) per triangle corner of `mesh`,
 /// the same surfaces built with `options`.
 fn corner_field(
     options: &SceneOptions,
