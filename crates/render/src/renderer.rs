@@ -612,7 +612,6 @@ impl Renderer {
         }
         cleared?;
         while let Some(part) = next(self)? {
-            check_hidden(&[part.as_ref()], style)?;
             if !part.draws_alone() {
                 return Err(Error::Invalid(format!(
                     "the wireframe technique of a {}-triangle part draws it with the others at once, not in parts",

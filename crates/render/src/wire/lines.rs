@@ -174,7 +174,8 @@ pub(crate) struct PulledVertices {
 const POSITION_BYTES: usize = std::mem::size_of::<[f32; 3]>();
 
 impl PulledVertices {
-    /// All the vertices of `mesh`.
+    /// All the vertices of `mesh` ([`Self::gather`] of every one, without copying the
+    /// positions first).
     fn whole(gpu: &Gpu, mesh: &SurfaceMesh, label: &str) -> Result<Self> {
         let scalars: Vec<f32> = (0..mesh.vertex_count())
             .map(|v| scalar_at(mesh, v))
