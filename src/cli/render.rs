@@ -349,9 +349,19 @@ fn draw_in_parts(
         flat_cells: false,
         ..options.clone()
     };
+    // Two passes over the parts: a bar on a terminal says where they are.
+    let bar = indicatif::ProgressBar::new(2 * count as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:40}] {msg} {pos}/{len} (eta {eta})",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar.set_message("framing, then drawing: parts");
     for part in &parts {
         let mesh = scene::build_part(grid, &shapes, part, origin)?;
         framing.add(mesh.positions.iter().map(|&p| Vec3::from(p)));
+        bar.inc(1);
     }
     let Some(bounds) = framing.bounds() else {
         return Err(scene::nothing_to_draw(grid, options));
@@ -383,6 +393,7 @@ fn draw_in_parts(
     let mut queue = parts.iter();
     let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
         for part in queue.by_ref() {
+            bar.inc(1);
             let whole = scene::build_part(grid, options, part, origin)?;
             built += whole.triangle_count();
             let mesh = in_view(&whole);
@@ -410,6 +421,7 @@ fn draw_in_parts(
         }
         Ok(None)
     })?;
+    bar.finish_and_clear();
     strata::render::save_png(&image, &args.output)?;
     let what =
         format!("{triangles} triangles (of {built} in the scene) in {drawn} of {count} parts");
