@@ -268,6 +268,24 @@ pub fn faces_in_view(
     })
 }
 
+/// Whether the box `(lo, hi)` (unscaled display frame) lies wholly inside the picture
+/// of `aspect` that `camera` takes ([`Camera::frustum`]): then no face in it need be
+/// tested by [`faces_in_view`].
+pub fn box_in_view((lo, hi): ([f32; 3], [f32; 3]), camera: &Camera, aspect: f32) -> bool {
+    let scale = Vec3::new(1.0, 1.0, camera.z_scale);
+    let corners = (0..8).map(|c| {
+        Vec3::new(
+            if c & 1 == 0 { lo[0] } else { hi[0] },
+            if c & 2 == 0 { lo[1] } else { hi[1] },
+            if c & 4 == 0 { lo[2] } else { hi[2] },
+        ) * scale
+    });
+    camera.frustum(aspect).iter().all(|plane| {
+        let normal = Vec3::new(plane[0], plane[1], plane[2]);
+        corners.clone().all(|p| normal.dot(p) + plane[3] >= 0.0)
+    })
+}
+
 /// Where `--centre` looks: the centre of cell `(i, j)`'s top face on the first of
 /// `layers` (all when `None`) whose surface has it, relative to `origin`.
 pub fn column_top(

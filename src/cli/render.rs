@@ -385,10 +385,13 @@ fn draw_in_parts(
     let loaded = Instant::now();
     let aspect = width as f32 / height as f32;
     // What a part shows: its faces not wholly off the picture, which would draw no
-    // pixel; in a close-up, most of each part goes. Side faces that turn their back
-    // stay (unlike `lod view`): at an outline they may take a pixel, and the picture
-    // is the one mesh's.
-    let in_view = |mesh: &SurfaceMesh| scene::faces_in_view(mesh, &view.camera, aspect, false);
+    // pixel; in a close-up, most of each part goes. A part wholly in the picture is
+    // drawn as built. Side faces that turn their back stay (unlike `lod view`): at an
+    // outline they may take a pixel, and the picture is the one mesh's.
+    let in_view = |mesh: SurfaceMesh| match mesh.bounds() {
+        Some(bounds) if scene::box_in_view(bounds, &view.camera, aspect) => mesh,
+        _ => scene::faces_in_view(&mesh, &view.camera, aspect, false),
+    };
     let (mut drawn, mut built, mut triangles) = (0, 0, 0);
     let mut queue = parts.iter();
     let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
@@ -396,7 +399,7 @@ fn draw_in_parts(
             bar.inc(1);
             let whole = scene::build_part(grid, options, part, origin)?;
             built += whole.triangle_count();
-            let mesh = in_view(&whole);
+            let mesh = in_view(whole);
             if mesh.triangle_count() == 0 {
                 continue;
             }
@@ -405,7 +408,7 @@ fn draw_in_parts(
             let drawable = match &iso {
                 Some((smooth_options, _)) => {
                     let smooth = scene::build_part(grid, smooth_options, part, origin)?;
-                    let smooth = in_view(&smooth);
+                    let smooth = in_view(smooth);
                     let field = corner_field(options, &smooth, &mesh)?;
                     let iso_options = IsolineOptions {
                         adjust: args.iso_adjust,
