@@ -76,7 +76,7 @@ impl Part {
     pub fn cells(&self, grid: &CornerPointGrid) -> usize {
         match self {
             Part::Tops(run) => active_cells(grid, run.clone()),
-            Part::Band { layer, rows, .. } => active_cells_in_rows(grid, *layer, rows.clone()),
+            Part::Band { layer, rows, .. } => grid.active_count_in(*layer, rows.clone()),
             Part::Bottom(k) => active_cells(grid, *k..*k + 1),
             Part::Sides(_) => 0,
         }
@@ -152,7 +152,7 @@ pub fn drawn_in_parts(parts: &[Part]) -> bool {
 /// Layer `k`'s rows cut into bands of at most `max_cells` active cells (a row with
 /// more is a band of its own).
 fn bands(grid: &CornerPointGrid, k: usize, max_cells: usize) -> impl Iterator<Item = Range<usize>> {
-    let per_row = (0..grid.dims().ny).map(|j| active_cells_in_rows(grid, k, j..j + 1));
+    let per_row = (0..grid.dims().ny).map(|j| grid.active_count_in(k, j..j + 1));
     runs_of(0, per_row, max_cells)
         .into_iter()
         .map(|(rows, _)| rows)
@@ -183,16 +183,8 @@ fn runs_of(
 /// The active cells of `layers`.
 pub fn active_cells(grid: &CornerPointGrid, layers: Range<usize>) -> usize {
     layers
-        .map(|k| active_cells_in_rows(grid, k, 0..grid.dims().ny))
+        .map(|k| grid.active_count_in(k, 0..grid.dims().ny))
         .sum()
-}
-
-/// The active cells of rows `rows` of layer `k`.
-fn active_cells_in_rows(grid: &CornerPointGrid, k: usize, rows: Range<usize>) -> usize {
-    let nx = grid.dims().nx;
-    rows.flat_map(|j| (0..nx).map(move |i| (i, j)))
-        .filter(|&(i, j)| grid.is_active(i, j, k))
-        .count()
 }
 
 /// The surfaces of `part` of the scene `options` asks for, relative to `origin` (the

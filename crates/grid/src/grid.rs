@@ -282,6 +282,15 @@ impl CornerPointGrid {
             .unwrap_or_else(|| self.actnum.iter().filter(|&&b| b).count())
     }
 
+    /// The active cells in rows `rows` (j) of layer `k`.
+    pub fn active_count_in(&self, k: usize, rows: std::ops::Range<usize>) -> usize {
+        self.actnum
+            .slice(s![k, rows, ..])
+            .iter()
+            .filter(|&&a| a)
+            .count()
+    }
+
     /// For every cell (linear index, `i` fastest) its index among the active cells,
     /// or `None` when inactive. This is how INIT and restart arrays map onto cells.
     pub fn active_index(&self) -> Vec<Option<u32>> {

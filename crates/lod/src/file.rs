@@ -451,12 +451,7 @@ fn batch_size(grid: &CornerPointGrid, memory: Option<u64>) -> Result<usize> {
     };
     let d = grid.dims();
     let largest = (0..d.nz)
-        .map(|k| {
-            (0..d.ny)
-                .flat_map(|j| (0..d.nx).map(move |i| (i, j)))
-                .filter(|&(i, j)| grid.is_active(i, j, k))
-                .count()
-        })
+        .map(|k| grid.active_count_in(k, 0..d.ny))
         .max()
         .unwrap_or(0);
     let each = largest as f64 * BUILD_BYTES_PER_CELL;
