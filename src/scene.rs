@@ -5,8 +5,8 @@ use std::ops::Range;
 
 use anyhow::{Result, bail};
 use strata_grid::{
-    CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surface_rows, layer_surfaces,
-    side_surfaces_among,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surface_in,
+    layer_surfaces, side_surfaces_among,
 };
 use strata_render::Camera;
 use strata_render::glam::Vec3;
@@ -200,7 +200,8 @@ pub fn build_part(
     let mesh = match part {
         Part::Tops(run) => layer_surfaces(grid, run.clone(), Face::Top, property, origin)?,
         Part::Band { layer, face, rows } => {
-            layer_surface_rows(grid, *layer, *face, property, origin, rows.clone())?
+            let band = Columns::all(grid.dims()).in_rows(rows.clone());
+            layer_surface_in(grid, *layer, *face, property, origin, &band)?
         }
         Part::Bottom(k) => layer_surface(grid, *k, Face::Bottom, property, origin)?,
         Part::Sides(run) => {

@@ -22,7 +22,8 @@ pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;
 pub use surface::{
-    Face, layer_surface, layer_surface_rows, layer_surfaces, side_surfaces, side_surfaces_among,
+    Columns, Face, layer_surface, layer_surface_in, layer_surfaces, layer_surfaces_in,
+    side_surfaces, side_surfaces_among, surface_face_corners,
 };
 pub use terrain::{Terrain, TerrainInput, TerrainSynth};
 

@@ -80,21 +80,85 @@ pub fn layer_surface(
     property: Option<&str>,
     origin: [f64; 3],
 ) -> Result<SurfaceMesh> {
-    layer_surface_rows(grid, k, face, property, origin, 0..grid.dims().ny)
+    layer_surface_in(grid, k, face, property, origin, &Columns::all(grid.dims()))
 }
 
-/// The faces of the cells in rows `rows` (j, 0-based) of the layer surface of layer
-/// `k` ([`layer_surface`]), for a layer too large to hold at once: the nodes on the
-/// band's edges are shared, and take their values, as in the whole surface, from the
-/// cells on both sides. Bands one after another make the whole surface's faces in its
-/// order.
-pub fn layer_surface_rows(
+/// A rectangle of columns of cells (0-based, ends exclusive): the part of a layer
+/// surface that a band of rows, or a close-up, needs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Columns {
+    pub i: Range<usize>,
+    pub j: Range<usize>,
+}
+
+impl Columns {
+    /// Every column of a grid of `dims`.
+    pub fn all(dims: Dims) -> Self {
+        Columns {
+            i: 0..dims.nx,
+            j: 0..dims.ny,
+        }
+    }
+
+    /// Whether no column is in the rectangle.
+    pub fn is_empty(&self) -> bool {
+        self.i.is_empty() || self.j.is_empty()
+    }
+
+    /// The columns of these in rows `rows`.
+    pub fn in_rows(&self, rows: Range<usize>) -> Columns {
+        Columns {
+            i: self.i.clone(),
+            j: self.j.start.max(rows.start)..self.j.end.min(rows.end),
+        }
+    }
+}
+
+/// Corner `(di, dj)` of cell `(i, j)`'s `face` in layer `k`, relative to `origin`
+/// (display frame).
+fn face_corner(
+    grid: &CornerPointGrid,
+    [i, j, k]: [usize; 3],
+    face: Face,
+    [di, dj]: [usize; 2],
+    origin: [f64; 3],
+) -> [f32; 3] {
+    let depth = grid.zcorn[[2 * k + face.dk(), 2 * j + dj, 2 * i + di]];
+    let local = grid.point_on_pillar(i + di, j + dj, f64::from(depth));
+    CornerPointGrid::to_display(origin, grid.to_map(local))
+}
+
+/// The corners (SW, SE, NE, NW; display frame, relative to `origin`) of cell
+/// `(i, j, k)`'s `face` where its layer surface has that face: the cell is active,
+/// not pinched out, and the face not degenerate. They are the face's vertex
+/// positions in the surface, so what frames them frames the surface.
+pub fn surface_face_corners(
+    grid: &CornerPointGrid,
+    cell: [usize; 3],
+    face: Face,
+    origin: [f64; 3],
+) -> Option<[[f32; 3]; 4]> {
+    let [i, j, k] = cell;
+    if !grid.is_active(i, j, k) || is_pinched(grid, i, j, k) {
+        return None;
+    }
+    let [a, b, c, d] =
+        [[0, 0], [1, 0], [1, 1], [0, 1]].map(|at| face_corner(grid, cell, face, at, origin));
+    (triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA).then_some([a, b, c, d])
+}
+
+/// The faces of the cells in `columns` of the layer surface of layer `k`
+/// ([`layer_surface`]), for a layer too large to hold at once or a close-up of it:
+/// the nodes on the rectangle's edges are shared, and take their values, as in the
+/// whole surface, from the cells on both sides. Bands of whole rows one after another
+/// make the whole surface's faces in its order.
+pub fn layer_surface_in(
     grid: &CornerPointGrid,
     k: usize,
     face: Face,
     property: Option<&str>,
     origin: [f64; 3],
-    rows: Range<usize>,
+    columns: &Columns,
 ) -> Result<SurfaceMesh> {
     let Dims { nx, ny, nz } = grid.dims();
     if k >= nz {
@@ -103,9 +167,12 @@ pub fn layer_surface_rows(
             k + 1
         )));
     }
-    if rows.is_empty() || rows.end > ny {
+    let Columns { i: cols, j: rows } = columns;
+    if columns.is_empty() || cols.end > nx || rows.end > ny {
         return Err(Error::Invalid(format!(
-            "rows {}..{} are not within the grid's 1..{ny}",
+            "columns {}..{} of rows {}..{} are not within the grid's 1..{nx} of 1..{ny}",
+            cols.start + 1,
+            cols.end,
             rows.start + 1,
             rows.end
         )));
@@ -114,45 +181,40 @@ pub fn layer_surface_rows(
     let dk = face.dk();
     let depth =
         |i: usize, j: usize, di: usize, dj: usize| grid.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
-    let point = |i: usize, j: usize, di: usize, dj: usize| {
-        let local = grid.point_on_pillar(i + di, j + dj, f64::from(depth(i, j, di, dj)));
-        CornerPointGrid::to_display(origin, grid.to_map(local))
-    };
 
-    // Which cells contribute a face: the band's, and the rows beside it, whose cells
-    // share the nodes of the band's edges.
-    let seen = rows.start.saturating_sub(1)..(rows.end + 1).min(ny);
-    let kept: Vec<bool> = (0..nx * seen.len())
+    // Which cells contribute a face: the rectangle's, and those around it, whose
+    // cells share the nodes of its edges.
+    let seen_i = cols.start.saturating_sub(1)..(cols.end + 1).min(nx);
+    let seen_j = rows.start.saturating_sub(1)..(rows.end + 1).min(ny);
+    let width = seen_i.len();
+    let kept: Vec<bool> = (0..width * seen_j.len())
         .into_par_iter()
         .map(|c| {
-            let (i, j) = (c % nx, seen.start + c / nx);
-            if !grid.is_active(i, j, k) || is_pinched(grid, i, j, k) {
-                return false;
-            }
-            let [a, b, c, d] = [
-                point(i, j, 0, 0),
-                point(i, j, 1, 0),
-                point(i, j, 1, 1),
-                point(i, j, 0, 1),
-            ];
-            triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA
+            let cell = [seen_i.start + c % width, seen_j.start + c / width, k];
+            surface_face_corners(grid, cell, face, origin).is_some()
         })
         .collect();
     let is_kept = |i: isize, j: isize| {
         i >= 0
-            && j >= seen.start as isize
-            && (i as usize) < nx
-            && (j as usize) < seen.end
-            && kept[(j as usize - seen.start) * nx + i as usize]
+            && j >= 0
+            && seen_i.contains(&(i as usize))
+            && seen_j.contains(&(j as usize))
+            && kept[(j as usize - seen_j.start) * width + i as usize - seen_i.start]
     };
-    let in_band = |j: isize| j >= rows.start as isize && (j as usize) < rows.end;
+    let within = |(i, j): (isize, isize)| {
+        i >= 0 && j >= 0 && cols.contains(&(i as usize)) && rows.contains(&(j as usize))
+    };
 
     let mut mesh = SurfaceMesh::with_origin(origin);
-    // Vertex of each cell corner of the band, laid out like a ZCORN layer:
-    // [2 rows][2 nx].
-    let mut corner_vertex = vec![u32::MAX; 4 * nx * rows.len()];
+    // Vertex of each cell corner of the rectangle, laid out like a ZCORN layer:
+    // [2 rows][2 columns].
+    let row_corners = 2 * cols.len();
+    let mut corner_vertex = vec![u32::MAX; 2 * row_corners * rows.len()];
+    let corner_at = |i: usize, j: usize, di: usize, dj: usize| {
+        (2 * (j - rows.start) + dj) * row_corners + 2 * (i - cols.start) + di
+    };
     for pj in rows.start..=rows.end {
-        for pi in 0..=nx {
+        for pi in cols.start..=cols.end {
             // The up to four cells around the node: SW, SE, NW, NE.
             let around: [(isize, isize); 4] = [(-1, -1), (0, -1), (-1, 0), (0, 0)]
                 .map(|(a, b)| (pi as isize + a, pj as isize + b));
@@ -174,14 +236,15 @@ pub fn layer_surface_rows(
                 }
             }
             let mut vertex_of_group = [u32::MAX; 4];
-            // Cells of the band only: those beside it lend their values.
-            for n in (0..4).filter(|&n| present[n] && in_band(around[n].1)) {
+            // Cells of the rectangle only: those around it lend their values.
+            for n in (0..4).filter(|&n| present[n] && within(around[n])) {
                 let g = group[n];
                 let (i, j) = (around[n].0 as usize, around[n].1 as usize);
                 let (di, dj) = (pi - i, pj - j);
                 if vertex_of_group[g] == u32::MAX {
                     vertex_of_group[g] = mesh.positions.len() as u32;
-                    mesh.positions.push(point(i, j, di, dj));
+                    mesh.positions
+                        .push(face_corner(grid, [i, j, k], face, [di, dj], origin));
                     mesh.texcoords
                         .push([(2 * pi + 1) as f32, (2 * pj + 1) as f32]);
                     if let Some(v) = values {
@@ -197,19 +260,17 @@ pub fn layer_surface_rows(
                         });
                     }
                 }
-                let row = j - rows.start;
-                corner_vertex[(2 * row + dj) * 2 * nx + 2 * i + di] = vertex_of_group[g];
+                corner_vertex[corner_at(i, j, di, dj)] = vertex_of_group[g];
             }
         }
     }
 
     for j in rows.clone() {
-        for i in 0..nx {
+        for i in cols.clone() {
             if !is_kept(i as isize, j as isize) {
                 continue;
             }
-            let row = j - rows.start;
-            let v = |di: usize, dj: usize| corner_vertex[(2 * row + dj) * 2 * nx + 2 * i + di];
+            let v = |di: usize, dj: usize| corner_vertex[corner_at(i, j, di, dj)];
             let (v00, v10, v11, v01) = (v(0, 0), v(1, 0), v(1, 1), v(0, 1));
             let t = mesh.triangles.len() as u32;
             mesh.triangles.push([v00, v10, v11]);
@@ -232,9 +293,29 @@ pub fn layer_surfaces(
     property: Option<&str>,
     origin: [f64; 3],
 ) -> Result<SurfaceMesh> {
+    layer_surfaces_in(
+        grid,
+        layers,
+        face,
+        property,
+        origin,
+        &Columns::all(grid.dims()),
+    )
+}
+
+/// The faces in `columns` of the layer surfaces of `layers`
+/// ([`layer_surface_in`]), stacked into one mesh (built in parallel).
+pub fn layer_surfaces_in(
+    grid: &CornerPointGrid,
+    layers: Range<usize>,
+    face: Face,
+    property: Option<&str>,
+    origin: [f64; 3],
+    columns: &Columns,
+) -> Result<SurfaceMesh> {
     let meshes = layers
         .into_par_iter()
-        .map(|k| layer_surface(grid, k, face, property, origin))
+        .map(|k| layer_surface_in(grid, k, face, property, origin, columns))
         .collect::<Result<Vec<_>>>()?;
     let mut all = SurfaceMesh::with_origin(origin);
     for m in &meshes {
@@ -708,6 +789,14 @@ mod tests {
         }
     }
 
+    /// Position, texture coordinates and value (as bits) of vertex `v` of `m`.
+    type Corner = ([f32; 3], [f32; 2], u32);
+
+    fn corner(m: &SurfaceMesh, v: u32) -> Corner {
+        let v = v as usize;
+        (m.positions[v], m.texcoords[v], m.scalars[v].to_bits())
+    }
+
     #[test]
     fn bands_of_rows_make_the_whole_layer_surface() {
         // The faulted grid's layer 2, top and bottom, as bands of 1, 6 and 11 rows: the
@@ -715,21 +804,19 @@ mod tests {
         // node values (averaged over the faulted nodes' cells across band edges).
         let g = faulted();
         let origin = g.display_origin();
-        let corners = |m: &SurfaceMesh| -> Vec<([f32; 3], [f32; 2], u32)> {
+        let corners = |m: &SurfaceMesh| -> Vec<Corner> {
             m.triangles
                 .iter()
                 .flatten()
-                .map(|&v| {
-                    let v = v as usize;
-                    (m.positions[v], m.texcoords[v], m.scalars[v].to_bits())
-                })
+                .map(|&v| corner(m, v))
                 .collect()
         };
         for face in [Face::Top, Face::Bottom] {
             let whole = layer_surface(&g, 2, face, Some("PORO"), origin).unwrap();
             let mut bands = SurfaceMesh::with_origin(origin);
             for rows in [0..1, 1..7, 7..18] {
-                let band = layer_surface_rows(&g, 2, face, Some("PORO"), origin, rows).unwrap();
+                let columns = Columns::all(g.dims()).in_rows(rows);
+                let band = layer_surface_in(&g, 2, face, Some("PORO"), origin, &columns).unwrap();
                 band.validate().unwrap();
                 // Every vertex is used: the rows beside a band lend values, not nodes.
                 let mut used = vec![false; band.vertex_count()];
@@ -749,8 +836,86 @@ mod tests {
                 "{face:?}: corners differ"
             );
         }
-        assert!(layer_surface_rows(&g, 2, Face::Top, None, origin, 10..19).is_err());
-        assert!(layer_surface_rows(&g, 2, Face::Top, None, origin, 4..4).is_err());
+        let beyond = |i, j| layer_surface_in(&g, 2, Face::Top, None, origin, &Columns { i, j });
+        assert!(beyond(0..24, 10..19).is_err());
+        assert!(beyond(3..25, 0..18).is_err());
+        assert!(beyond(0..24, 4..4).is_err());
+    }
+
+    #[test]
+    fn rectangles_of_columns_hold_the_whole_surfaces_faces() {
+        // The faulted grid's layer 2 cut into six rectangles of columns, whose edges
+        // cross faults: every face of the whole surface is in exactly one, with the
+        // same corners, coordinates and node values, and no rectangle holds a vertex
+        // none of its faces uses.
+        let g = faulted();
+        let origin = g.display_origin();
+        let faces = |m: &SurfaceMesh| -> Vec<([u32; 3], Vec<Corner>)> {
+            let mut faces: Vec<_> = m
+                .cell_faces
+                .iter()
+                .map(|f| {
+                    let triangles = f.triangles.iter().flat_map(|&t| m.triangles[t as usize]);
+                    (f.cell, triangles.map(|v| corner(m, v)).collect())
+                })
+                .collect();
+            faces.sort_by_key(|(cell, _)| *cell);
+            faces
+        };
+        for face in [Face::Top, Face::Bottom] {
+            let whole = layer_surface(&g, 2, face, Some("PORO"), origin).unwrap();
+            let mut pieces = SurfaceMesh::with_origin(origin);
+            for (i, j) in [0..5, 5..17, 17..24]
+                .into_iter()
+                .flat_map(|i| [0..9, 9..18].map(|j| (i.clone(), j)))
+            {
+                let piece = layer_surface_in(&g, 2, face, Some("PORO"), origin, &Columns { i, j });
+                let piece = piece.unwrap();
+                piece.validate().unwrap();
+                let mut used = vec![false; piece.vertex_count()];
+                piece
+                    .triangles
+                    .iter()
+                    .flatten()
+                    .for_each(|&v| used[v as usize] = true);
+                assert!(used.iter().all(|&u| u));
+                pieces.append(&piece);
+            }
+            assert!(whole.triangle_count() > 500);
+            assert!(faces(&pieces) == faces(&whole), "{face:?}: faces differ");
+        }
+    }
+
+    #[test]
+    fn the_corners_of_a_surface_face_are_its_vertices() {
+        // surface_face_corners names the faces a layer surface keeps, with their
+        // vertices' positions, bit for bit; pinched and inactive cells have none.
+        let g = faulted();
+        let origin = g.display_origin();
+        let d = g.dims();
+        for face in [Face::Top, Face::Bottom] {
+            let m = layer_surface(&g, 3, face, None, origin).unwrap();
+            let mut faces = m.cell_faces.iter();
+            for j in 0..d.ny {
+                for i in 0..d.nx {
+                    let Some(corners) = surface_face_corners(&g, [i, j, 3], face, origin) else {
+                        assert!(
+                            !m.cell_faces
+                                .iter()
+                                .any(|f| f.cell == [i, j, 3].map(|c| c as u32))
+                        );
+                        continue;
+                    };
+                    let f = faces.next().expect("a face for each kept cell");
+                    assert_eq!(f.cell, [i as u32, j as u32, 3]);
+                    let [a, b] = f.triangles.map(|t| m.triangles[t as usize]);
+                    let vertices = [a[0], a[1], a[2], b[2]].map(|v| m.positions[v as usize]);
+                    assert_eq!(vertices, corners);
+                }
+            }
+            assert!(faces.next().is_none());
+            assert!(m.triangle_count() > 500);
+        }
     }
 
     #[test]
