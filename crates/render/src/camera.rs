@@ -215,6 +215,18 @@ impl Framing {
         }
     }
 
+    /// Adds the points `other` framed for the same view, as if added here: framings
+    /// gathered in parallel, one per piece of a scene, merge into the whole's.
+    pub fn merge(&mut self, other: &Framing) {
+        let (lo, hi) = other.bounds;
+        self.bounds = (self.bounds.0.min(lo), self.bounds.1.max(hi));
+        let (lo, hi) = other.scaled;
+        self.scaled = (self.scaled.0.min(lo), self.scaled.1.max(hi));
+        for (reach, theirs) in self.reach.iter_mut().zip(other.reach) {
+            *reach = reach.max(theirs);
+        }
+    }
+
     /// The box of the points added (unscaled), `None` before any.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         self.bounds
@@ -320,6 +332,16 @@ mod tests {
             framing.add(part.iter().copied());
         }
         assert_eq!(framing.camera(1.0), whole);
+        // Framings of pieces, merged (an empty one too), are the framing of them all.
+        let mut merged = Framing::new(5.0, aspect, view);
+        for part in points.chunks(130) {
+            let mut piece = Framing::new(5.0, aspect, view);
+            piece.add(part.iter().copied());
+            merged.merge(&piece);
+        }
+        merged.merge(&Framing::new(5.0, aspect, view));
+        assert_eq!(merged.camera(1.0), whole);
+        assert_eq!(merged.bounds(), framing.bounds());
         let (lo, hi) = framing.bounds().expect("points were added");
         assert!(
             points
