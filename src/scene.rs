@@ -4,12 +4,13 @@
 use std::ops::Range;
 
 use anyhow::{Result, bail};
+use rayon::prelude::*;
 use strata_grid::{
-    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surface_in,
-    layer_surfaces, side_surfaces_among,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces_in,
+    side_surfaces_among, surface_face_corners,
 };
-use strata_render::Camera;
 use strata_render::glam::Vec3;
+use strata_render::{Camera, Framing};
 
 /// Which surfaces of a model to draw.
 #[derive(Clone, Debug, Default)]
@@ -33,8 +34,9 @@ pub fn build(
 ) -> Result<(SurfaceMesh, Option<(f32, f32)>)> {
     let origin = grid.display_origin();
     let mut mesh = SurfaceMesh::with_origin(origin);
+    let all = Columns::all(grid.dims());
     for part in parts(grid, options, usize::MAX)? {
-        mesh.append(&build_part(grid, options, &part, origin)?);
+        mesh.append(&build_part(grid, options, &part, origin, &all)?);
     }
     if mesh.is_empty() {
         return Err(nothing_to_draw(grid, options));
@@ -189,21 +191,28 @@ pub fn active_cells(grid: &CornerPointGrid, layers: Range<usize>) -> usize {
 
 /// The surfaces of `part` of the scene `options` asks for, relative to `origin` (the
 /// grid's display origin, which takes a pass over all its cells to find), coloured
-/// and painted as the whole scene's.
+/// and painted as the whole scene's: of its layer faces, those in `columns` (empty
+/// when none is), and all its side faces.
 pub fn build_part(
     grid: &CornerPointGrid,
     options: &SceneOptions,
     part: &Part,
     origin: [f64; 3],
+    columns: &Columns,
 ) -> Result<SurfaceMesh> {
     let property = options.property.as_deref();
-    let mesh = match part {
-        Part::Tops(run) => layer_surfaces(grid, run.clone(), Face::Top, property, origin)?,
-        Part::Band { layer, face, rows } => {
-            let band = Columns::all(grid.dims()).in_rows(rows.clone());
-            layer_surface_in(grid, *layer, *face, property, origin, &band)?
+    let layer_faces = |layers: Range<usize>, face: Face, columns: Columns| {
+        if columns.is_empty() {
+            return Ok(SurfaceMesh::with_origin(origin));
         }
-        Part::Bottom(k) => layer_surface(grid, *k, Face::Bottom, property, origin)?,
+        layer_surfaces_in(grid, layers, face, property, origin, &columns)
+    };
+    let mesh = match part {
+        Part::Tops(run) => layer_faces(run.clone(), Face::Top, columns.clone())?,
+        Part::Band { layer, face, rows } => {
+            layer_faces(*layer..*layer + 1, *face, columns.in_rows(rows.clone()))?
+        }
+        Part::Bottom(k) => layer_faces(*k..*k + 1, Face::Bottom, columns.clone())?,
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
             side_surfaces_among(grid, run.clone(), scene, property, origin)?
@@ -214,6 +223,131 @@ pub fn build_part(
     } else {
         mesh
     })
+}
+
+/// Where a scene drawn in parts lies, found before any part is drawn: the framing of
+/// all its vertices, its triangles, and the box of each tile of columns of its layer
+/// faces, which says what of each layer a close-up needs.
+#[derive(Clone, Debug)]
+pub struct SceneExtent {
+    pub framing: Framing,
+    pub triangles: usize,
+    /// All the grid's columns, and how many on a side of a tile.
+    columns: Columns,
+    tile: usize,
+    tiles_across: usize,
+    /// Per tile, row by row.
+    boxes: Vec<TileBox>,
+}
+
+/// The box of a tile's layer faces (unscaled display frame), `None` where it has none.
+type TileBox = Option<(Vec3, Vec3)>;
+
+/// Tiles on a side of the columns, at most: few enough that their boxes are small
+/// and quickly tested, enough that a close-up needs only some.
+const TILES_ACROSS: usize = 64;
+
+/// The extent of the scene of `parts` ([`SceneExtent`]) for the view `framing` was
+/// made for (it holds no point yet). The layer faces (the drawn layers' tops and the
+/// deepest one's bottom, nearly all a scene holds) are framed from their corners in
+/// one parallel pass, building no mesh: those corners are exactly their surfaces'
+/// vertices. The side faces are built, a run of layers at a time, and framed.
+pub fn scene_extent(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+    parts: &[Part],
+    origin: [f64; 3],
+    framing: Framing,
+) -> Result<SceneExtent> {
+    let layers = drawn_layers(grid, options)?;
+    let Dims { nx, ny, .. } = grid.dims();
+    let tile = nx.max(ny).div_ceil(TILES_ACROSS).max(1);
+    let tiles_across = nx.div_ceil(tile);
+    let layer_faces: Vec<(usize, Face)> = layers
+        .clone()
+        .map(|k| (k, Face::Top))
+        .chain([(layers.end - 1, Face::Bottom)])
+        .collect();
+    // A row of tiles at a time, in parallel: each its own framing, boxes and count.
+    let rows: Vec<(Framing, Vec<TileBox>, usize)> = (0..ny.div_ceil(tile))
+        .into_par_iter()
+        .map(|tile_row| {
+            let mut framing = framing.clone();
+            let mut boxes: Vec<TileBox> = vec![None; tiles_across];
+            let mut faces = 0;
+            for j in tile_row * tile..((tile_row + 1) * tile).min(ny) {
+                for &(k, face) in &layer_faces {
+                    for i in 0..nx {
+                        let Some(corners) = surface_face_corners(grid, [i, j, k], face, origin)
+                        else {
+                            continue;
+                        };
+                        let corners = corners.map(Vec3::from);
+                        faces += 1;
+                        framing.add(corners);
+                        let (lo, hi) = boxes[i / tile].get_or_insert((corners[0], corners[0]));
+                        for c in corners {
+                            (*lo, *hi) = (lo.min(c), hi.max(c));
+                        }
+                    }
+                }
+            }
+            (framing, boxes, faces)
+        })
+        .collect();
+    let mut extent = SceneExtent {
+        framing,
+        triangles: 0,
+        columns: Columns::all(grid.dims()),
+        tile,
+        tiles_across,
+        boxes: Vec::with_capacity(rows.len() * tiles_across),
+    };
+    for (framing, boxes, faces) in rows {
+        extent.framing.merge(&framing);
+        extent.boxes.extend(boxes);
+        extent.triangles += 2 * faces;
+    }
+    let shapes = SceneOptions {
+        property: None,
+        flat_cells: false,
+        ..options.clone()
+    };
+    let all = Columns::all(grid.dims());
+    for part in parts.iter().filter(|p| matches!(p, Part::Sides(_))) {
+        let sides = build_part(grid, &shapes, part, origin, &all)?;
+        extent
+            .framing
+            .add(sides.positions.iter().map(|&p| Vec3::from(p)));
+        extent.triangles += sides.triangle_count();
+    }
+    Ok(extent)
+}
+
+impl SceneExtent {
+    /// The columns whose layer faces a picture of `aspect` (width / height) that
+    /// `camera` takes may show: the rectangle around the tiles whose box is not wholly
+    /// outside it (empty when there is none).
+    pub fn columns_in_view(&self, camera: &Camera, aspect: f32) -> Columns {
+        let seen = self.boxes.iter().enumerate().filter_map(|(n, b)| {
+            let (lo, hi) = (*b)?;
+            let outside = box_outside_view((lo.into(), hi.into()), camera, aspect);
+            (!outside).then_some((n % self.tiles_across, n / self.tiles_across))
+        });
+        let (lo, hi) = seen.fold(([usize::MAX; 2], [0; 2]), |(lo, hi), (i, j)| {
+            (
+                [lo[0].min(i), lo[1].min(j)],
+                [hi[0].max(i + 1), hi[1].max(j + 1)],
+            )
+        });
+        let span = |a: usize, b: usize, n: usize| {
+            a.saturating_mul(self.tile).min(n)..(b * self.tile).min(n)
+        };
+        Columns {
+            i: span(lo[0], hi[0], self.columns.i.end),
+            j: span(lo[1], hi[1], self.columns.j.end),
+        }
+    }
 }
 
 /// The range of the defined values of the property colouring the scene, over all its
@@ -264,18 +398,32 @@ pub fn faces_in_view(
 /// Whether the box `(lo, hi)` (unscaled display frame) lies wholly inside the picture
 /// of `aspect` that `camera` takes ([`Camera::frustum`]): then no face in it need be
 /// tested by [`faces_in_view`].
-pub fn box_in_view((lo, hi): ([f32; 3], [f32; 3]), camera: &Camera, aspect: f32) -> bool {
-    let scale = Vec3::new(1.0, 1.0, camera.z_scale);
-    let corners = (0..8).map(|c| {
+pub fn box_in_view(bounds: ([f32; 3], [f32; 3]), camera: &Camera, aspect: f32) -> bool {
+    let corners = box_corners(bounds, camera.z_scale);
+    camera.frustum(aspect).iter().all(|plane| {
+        let normal = Vec3::new(plane[0], plane[1], plane[2]);
+        corners.iter().all(|&p| normal.dot(p) + plane[3] >= 0.0)
+    })
+}
+
+/// Whether the box `(lo, hi)` (unscaled display frame) lies wholly outside one of the
+/// planes of the picture of `aspect` that `camera` takes: then nothing in it shows.
+pub fn box_outside_view(bounds: ([f32; 3], [f32; 3]), camera: &Camera, aspect: f32) -> bool {
+    let corners = box_corners(bounds, camera.z_scale);
+    camera.frustum(aspect).iter().any(|plane| {
+        let normal = Vec3::new(plane[0], plane[1], plane[2]);
+        corners.iter().all(|&p| normal.dot(p) + plane[3] < 0.0)
+    })
+}
+
+/// The eight corners of the box `(lo, hi)`, exaggerated by `z_scale`.
+fn box_corners((lo, hi): ([f32; 3], [f32; 3]), z_scale: f32) -> [Vec3; 8] {
+    std::array::from_fn(|c| {
         Vec3::new(
             if c & 1 == 0 { lo[0] } else { hi[0] },
             if c & 2 == 0 { lo[1] } else { hi[1] },
             if c & 4 == 0 { lo[2] } else { hi[2] },
-        ) * scale
-    });
-    camera.frustum(aspect).iter().all(|plane| {
-        let normal = Vec3::new(plane[0], plane[1], plane[2]);
-        corners.clone().all(|p| normal.dot(p) + plane[3] >= 0.0)
+        ) * Vec3::new(1.0, 1.0, z_scale)
     })
 }
 
@@ -346,5 +494,102 @@ pub fn corner_field(smooth: &SurfaceMesh, cell_painted: bool) -> Vec<f32> {
         (0..smooth.triangle_count() as u32)
             .flat_map(corners)
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use strata_grid::synth::{SynthParams, generate};
+
+    fn faulted() -> CornerPointGrid {
+        generate(&SynthParams {
+            nx: 70,
+            ny: 45,
+            nz: 4,
+            faults: 4,
+            seed: 3,
+        })
+        .expect("a generated grid")
+    }
+
+    /// The cells and corners of `mesh`'s faces, in order.
+    fn faces(mesh: &SurfaceMesh) -> Vec<([u32; 3], Vec<[f32; 3]>)> {
+        mesh.cell_faces
+            .iter()
+            .map(|f| {
+                let corners = f.triangles.iter().flat_map(|&t| mesh.triangles[t as usize]);
+                (
+                    f.cell,
+                    corners.map(|v| mesh.positions[v as usize]).collect(),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_extent_of_a_scene_frames_and_counts_its_whole_mesh() {
+        let grid = faulted();
+        let options = SceneOptions {
+            sides: true,
+            property: Some("PORO".into()),
+            ..SceneOptions::default()
+        };
+        let origin = grid.display_origin();
+        let (whole, _) = build(&grid, &options).expect("the scene");
+        let framing = Framing::new(3.0, 1.5, (30.0, 35.0));
+        let mut of_mesh = framing.clone();
+        of_mesh.add(whole.positions.iter().map(|&p| Vec3::from(p)));
+        for max_cells in [usize::MAX, 900, 200] {
+            let parts = parts(&grid, &options, max_cells).expect("the parts");
+            let extent = scene_extent(&grid, &options, &parts, origin, framing.clone());
+            let extent = extent.expect("the extent");
+            assert_eq!(extent.triangles, whole.triangle_count());
+            assert_eq!(extent.framing.camera(1.0), of_mesh.camera(1.0));
+            assert_eq!(extent.framing.bounds(), of_mesh.bounds());
+            // Seen whole, every column is needed.
+            let camera = extent.framing.camera(1.0);
+            assert_eq!(
+                extent.columns_in_view(&camera, 1.5),
+                Columns::all(grid.dims())
+            );
+        }
+        assert!(whole.triangle_count() > 15_000);
+    }
+
+    #[test]
+    fn a_close_up_builds_only_the_columns_it_shows() {
+        // A close-up of the middle of the model: a part built in the columns in view
+        // shows the same faces, in the same order, as the part built whole, and those
+        // columns are a small share of all.
+        let grid = faulted();
+        let options = SceneOptions {
+            sides: true,
+            ..SceneOptions::default()
+        };
+        let origin = grid.display_origin();
+        let parts = parts(&grid, &options, 900).expect("the parts");
+        let framing = Framing::new(1.0, 1.5, (30.0, 60.0));
+        let extent = scene_extent(&grid, &options, &parts, origin, framing).expect("the extent");
+        let centre = column_top(&grid, None, [30, 20], origin).expect("a face");
+        let camera = extent.framing.camera(0.1).centred_on(Vec3::from(centre));
+        let columns = extent.columns_in_view(&camera, 1.5);
+        assert!(
+            columns.i.len() * columns.j.len() < 70 * 45 / 4,
+            "{columns:?}"
+        );
+        assert!(columns.i.contains(&30) && columns.j.contains(&20));
+        let all = Columns::all(grid.dims());
+        let mut shown = 0;
+        for part in &parts {
+            let seen = |columns: &Columns| {
+                let mesh = build_part(&grid, &options, part, origin, columns).expect("a part");
+                faces(&faces_in_view(&mesh, &camera, 1.5, false))
+            };
+            let whole = seen(&all);
+            shown += whole.len();
+            assert!(seen(&columns) == whole, "{part:?}");
+        }
+        assert!(shown > 500, "{shown} faces in view");
     }
 }

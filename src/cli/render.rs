@@ -340,17 +340,11 @@ fn draw_in_parts(
         let what = format!("--hidden {} needs", style.hidden.name());
         return Err(whole(what, "use --hidden tehs"));
     }
-    // Where the vertices are does not depend on the colours.
     let (az, el, dist) = args.frame.view;
     let (width, height) = args.frame.size;
-    let mut framing = Framing::new(args.frame.zscale, width as f32 / height as f32, (az, el));
-    let shapes = SceneOptions {
-        property: None,
-        flat_cells: false,
-        ..options.clone()
-    };
-    // Two passes over the parts: a bar on a terminal says where they are.
-    let bar = indicatif::ProgressBar::new(2 * count as u64);
+    let aspect = width as f32 / height as f32;
+    // The framing pass, then a part at a time: a bar on a terminal says where they are.
+    let bar = indicatif::ProgressBar::new(1 + count as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{elapsed_precise} [{bar:40}] {msg} {pos}/{len} (eta {eta})",
@@ -358,11 +352,10 @@ fn draw_in_parts(
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     bar.set_message("framing, then drawing: parts");
-    for part in &parts {
-        let mesh = scene::build_part(grid, &shapes, part, origin)?;
-        framing.add(mesh.positions.iter().map(|&p| Vec3::from(p)));
-        bar.inc(1);
-    }
+    let framing = Framing::new(args.frame.zscale, aspect, (az, el));
+    let extent = scene::scene_extent(grid, options, &parts, origin, framing)?;
+    bar.inc(1);
+    let framing = &extent.framing;
     let Some(bounds) = framing.bounds() else {
         return Err(scene::nothing_to_draw(grid, options));
     };
@@ -383,23 +376,22 @@ fn draw_in_parts(
         bounds,
     };
     let loaded = Instant::now();
-    let aspect = width as f32 / height as f32;
     // What a part shows: its faces not wholly off the picture, which would draw no
-    // pixel; in a close-up, most of each part goes. A part wholly in the picture is
-    // drawn as built. Side faces that turn their back stay (unlike `lod view`): at an
-    // outline they may take a pixel, and the picture is the one mesh's.
+    // pixel. In a close-up most go, and most of the layers' faces are not even built:
+    // only the columns in view are. A part wholly in the picture is drawn as built.
+    // Side faces that turn their back stay (unlike `lod view`): at an outline they
+    // may take a pixel, and the picture is the one mesh's.
+    let columns = extent.columns_in_view(&view.camera, aspect);
     let in_view = |mesh: SurfaceMesh| match mesh.bounds() {
         Some(bounds) if scene::box_in_view(bounds, &view.camera, aspect) => mesh,
         _ => scene::faces_in_view(&mesh, &view.camera, aspect, false),
     };
-    let (mut drawn, mut built, mut triangles) = (0, 0, 0);
+    let (mut drawn, mut triangles) = (0, 0);
     let mut queue = parts.iter();
     let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
         for part in queue.by_ref() {
             bar.inc(1);
-            let whole = scene::build_part(grid, options, part, origin)?;
-            built += whole.triangle_count();
-            let mesh = in_view(whole);
+            let mesh = in_view(scene::build_part(grid, options, part, origin, &columns)?);
             if mesh.triangle_count() == 0 {
                 continue;
             }
@@ -407,7 +399,7 @@ fn draw_in_parts(
             triangles += mesh.triangle_count();
             let drawable = match &iso {
                 Some((smooth_options, _)) => {
-                    let smooth = scene::build_part(grid, smooth_options, part, origin)?;
+                    let smooth = scene::build_part(grid, smooth_options, part, origin, &columns)?;
                     let smooth = in_view(smooth);
                     let field = corner_field(options, &smooth, &mesh)?;
                     let iso_options = IsolineOptions {
@@ -426,8 +418,10 @@ fn draw_in_parts(
     })?;
     bar.finish_and_clear();
     strata::render::save_png(&image, &args.output)?;
-    let what =
-        format!("{triangles} triangles (of {built} in the scene) in {drawn} of {count} parts");
+    let what = format!(
+        "{triangles} triangles (of {} in the scene) in {drawn} of {count} parts",
+        extent.triangles
+    );
     report(
         args,
         &renderer,
