@@ -399,19 +399,37 @@ impl CornerPointGrid {
 
     /// Bounding box of the corners of the active cells (all cells when none is
     /// active), in map coordinates (x, y, depth).
+    ///
+    /// A corner lies on its pillar, along which x and y move monotonically with
+    /// depth, so the box is that of each pillar's shallowest and deepest corner: a
+    /// pass over the depths, and two points a pillar. Each rounded step of
+    /// [`Self::point_on_pillar`] is monotonic, so without MAPAXES the box is exactly
+    /// the corners'; a rotation adds x and y, whose sum may differ by a rounding.
     pub fn bounding_box(&self) -> BoundingBox {
         let any_active = self.actnum.iter().any(|&a| a);
         let Dims { nx, ny, nz } = self.dims;
-        (0..nz * ny)
+        (0..=ny)
             .into_par_iter()
-            .map(|row| {
-                let (j, k) = (row % ny, row / ny);
-                let mut b = BoundingBox::empty();
-                for i in 0..nx {
-                    if !any_active || self.actnum[[k, j, i]] {
-                        for c in self.cell_corners(i, j, k) {
-                            b.include(c);
+            .map(|pj| {
+                let mut depths = vec![(f32::INFINITY, f32::NEG_INFINITY); nx + 1];
+                // The cells on either side of the row of pillars.
+                let rows = pj.saturating_sub(1)..(pj + 1).min(ny);
+                for k in 0..nz {
+                    for j in rows.clone() {
+                        let dj = pj - j;
+                        for i in (0..nx).filter(|&i| !any_active || self.actnum[[k, j, i]]) {
+                            for (di, dk) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                                let z = self.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
+                                let (lo, hi) = &mut depths[i + di];
+                                (*lo, *hi) = (lo.min(z), hi.max(z));
+                            }
                         }
+                    }
+                }
+                let mut b = BoundingBox::empty();
+                for (pi, (lo, hi)) in depths.into_iter().enumerate() {
+                    for z in [lo, hi].into_iter().filter(|z| z.is_finite()) {
+                        b.include(self.to_map(self.point_on_pillar(pi, pj, f64::from(z))));
                     }
                 }
                 b
@@ -589,6 +607,61 @@ mod tests {
             }
         }
         CornerPointGrid::from_arrays(dims, coord, zcorn, None).unwrap()
+    }
+
+    #[test]
+    fn the_bounding_box_is_that_of_every_active_cells_corners() {
+        // Leaning pillars, faults, inactive cells and a rotated map frame: the box
+        // from each pillar's shallowest and deepest corner is, bit for bit, the box
+        // of all the active cells' corners; with no active cell, of all cells'.
+        let mut g = crate::synth::generate(&crate::synth::SynthParams {
+            nx: 30,
+            ny: 20,
+            nz: 4,
+            faults: 3,
+            seed: 5,
+        })
+        .unwrap();
+        let Dims { nx, ny, nz } = g.dims();
+        for (n, a) in g.actnum.iter_mut().enumerate() {
+            *a &= n % 7 != 3;
+        }
+        let of_corners = |g: &CornerPointGrid, active_only: bool| {
+            let mut b = BoundingBox::empty();
+            for (k, j, i) in
+                (0..nz).flat_map(|k| (0..ny).flat_map(move |j| (0..nx).map(move |i| (k, j, i))))
+            {
+                if !active_only || g.is_active(i, j, k) {
+                    g.cell_corners(i, j, k)
+                        .into_iter()
+                        .for_each(|c| b.include(c));
+                }
+            }
+            b
+        };
+        let b = g.bounding_box();
+        assert!(!b.is_empty());
+        assert_eq!(b, of_corners(&g, true));
+        // Rotated, x and y each still move one way along a pillar, their map sum
+        // within rounding.
+        let (x0, y0) = (4.0e5, 6.7e6);
+        g.mapaxes = Some(MapAxes::from_values([
+            x0 - 0.5,
+            y0 + 0.866,
+            x0,
+            y0,
+            x0 + 0.866,
+            y0 + 0.5,
+        ]));
+        let (b, all) = (g.bounding_box(), of_corners(&g, true));
+        for a in 0..3 {
+            assert!((b.min[a] - all.min[a]).abs() <= 1e-9 * all.min[a].abs().max(1.0));
+            assert!((b.max[a] - all.max[a]).abs() <= 1e-9 * all.max[a].abs().max(1.0));
+        }
+        assert!(b.min[0] < x0 && b.max[1] > y0, "{b:?}");
+        g.mapaxes = None;
+        g.actnum.fill(false);
+        assert_eq!(g.bounding_box(), of_corners(&g, false));
     }
 
     #[test]
