@@ -6,7 +6,7 @@ use std::ops::Range;
 use anyhow::{Result, bail};
 use rayon::prelude::*;
 use strata_grid::{
-    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface, layer_surfaces_in,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface_in, layer_surfaces_in,
     side_surfaces_among, surface_face_corners,
 };
 use strata_render::glam::Vec3;
@@ -436,10 +436,19 @@ pub fn column_top(
     origin: [f64; 3],
 ) -> Result<[f32; 3]> {
     let Dims { nx, ny, nz } = grid.dims();
+    let [i, j] = cell.map(|c| c as usize);
+    // The one cell's face, as the whole surface has it: its corners are the surface's.
+    let column = Columns {
+        i: i..i + 1,
+        j: j..j + 1,
+    };
     let candidates = layers
         .unwrap_or(0..nz)
-        .filter(|&k| grid.is_active(cell[0] as usize, cell[1] as usize, k))
-        .map(|k| Ok(layer_surface(grid, k, Face::Top, None, origin)?.cell_centre(cell)));
+        .filter(|&k| grid.is_active(i, j, k))
+        .map(|k| {
+            let face = layer_surface_in(grid, k, Face::Top, None, origin, &column)?;
+            Ok(face.cell_centre(cell))
+        });
     first_face_centre(cell, [nx, ny], candidates)
 }
 
@@ -555,6 +564,37 @@ mod tests {
             );
         }
         assert!(whole.triangle_count() > 15_000);
+    }
+
+    #[test]
+    fn the_centre_of_a_cell_is_found_on_its_face_alone_as_on_the_whole_layer() {
+        let grid = faulted();
+        let origin = grid.display_origin();
+        let d = grid.dims();
+        let mut found = 0;
+        for (i, j) in (0..d.nx)
+            .step_by(3)
+            .flat_map(|i| (0..d.ny).step_by(4).map(move |j| (i, j)))
+        {
+            let cell = [i as u32, j as u32];
+            let on_layers = (0..d.nz).map(|k| {
+                let layer = strata_grid::layer_surface(&grid, k, Face::Top, None, origin)?;
+                Ok(layer.cell_centre(cell))
+            });
+            let whole = first_face_centre(cell, [d.nx, d.ny], on_layers);
+            let alone = column_top(&grid, None, cell, origin);
+            match (whole, alone) {
+                (Ok(a), Ok(b)) => {
+                    assert_eq!(a, b, "{cell:?}");
+                    found += 1;
+                }
+                (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+                (a, b) => panic!("{cell:?}: {a:?} against {b:?}"),
+            }
+        }
+        assert!(found > 200, "{found} centres");
+        let beyond = column_top(&grid, None, [70, 3], origin).expect_err("off the model");
+        assert!(beyond.to_string().contains("70 x 45 columns"), "{beyond}");
     }
 
     #[test]
