@@ -6,8 +6,8 @@ use std::ops::Range;
 use anyhow::{Result, bail};
 use rayon::prelude::*;
 use strata_grid::{
-    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, layer_surface_in, layer_surfaces_in,
-    side_surfaces_among, surface_face_corners,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, has_faces, layer_surface_in,
+    layer_surfaces_in, open_sides, side_face_corners, side_surfaces_among, surface_face_corners,
 };
 use strata_render::glam::Vec3;
 use strata_render::{Camera, Framing};
@@ -191,8 +191,8 @@ pub fn active_cells(grid: &CornerPointGrid, layers: Range<usize>) -> usize {
 
 /// The surfaces of `part` of the scene `options` asks for, relative to `origin` (the
 /// grid's display origin, which takes a pass over all its cells to find), coloured
-/// and painted as the whole scene's: of its layer faces, those in `columns` (empty
-/// when none is), and all its side faces.
+/// and painted as the whole scene's: its faces in `columns` (none when that is
+/// empty).
 pub fn build_part(
     grid: &CornerPointGrid,
     options: &SceneOptions,
@@ -213,9 +213,10 @@ pub fn build_part(
             layer_faces(*layer..*layer + 1, *face, columns.in_rows(rows.clone()))?
         }
         Part::Bottom(k) => layer_faces(*k..*k + 1, Face::Bottom, columns.clone())?,
+        Part::Sides(_) if columns.is_empty() => SurfaceMesh::with_origin(origin),
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
-            side_surfaces_among(grid, run.clone(), scene, property, origin)?
+            side_surfaces_among(grid, run.clone(), scene, property, origin, columns)?
         }
     };
     Ok(if options.flat_cells && property.is_some() {
@@ -226,7 +227,7 @@ pub fn build_part(
 }
 
 /// Where a scene drawn in parts lies, found before any part is drawn: the framing of
-/// all its vertices, its triangles, and the box of each tile of columns of its layer
+/// all its vertices, its triangles, and the box of each tile of columns of its
 /// faces, which says what of each layer a close-up needs.
 #[derive(Clone, Debug)]
 pub struct SceneExtent {
@@ -240,22 +241,20 @@ pub struct SceneExtent {
     boxes: Vec<TileBox>,
 }
 
-/// The box of a tile's layer faces (unscaled display frame), `None` where it has none.
+/// The box of a tile's faces (unscaled display frame), `None` where it has none.
 type TileBox = Option<(Vec3, Vec3)>;
 
 /// Tiles on a side of the columns, at most: few enough that their boxes are small
 /// and quickly tested, enough that a close-up needs only some.
 const TILES_ACROSS: usize = 64;
 
-/// The extent of the scene of `parts` ([`SceneExtent`]) for the view `framing` was
-/// made for (it holds no point yet). The layer faces (the drawn layers' tops and the
-/// deepest one's bottom, nearly all a scene holds) are framed from their corners in
-/// one parallel pass, building no mesh: those corners are exactly their surfaces'
-/// vertices. The side faces are built, a run of layers at a time, and framed.
+/// The extent of the scene `options` asks for ([`SceneExtent`]), for the view
+/// `framing` was made for (it holds no point yet), from the corners of its faces in
+/// one parallel pass over rows of tiles, building no mesh: those corners are exactly
+/// the vertices of its surfaces.
 pub fn scene_extent(
     grid: &CornerPointGrid,
     options: &SceneOptions,
-    parts: &[Part],
     origin: [f64; 3],
     framing: Framing,
 ) -> Result<SceneExtent> {
@@ -274,25 +273,57 @@ pub fn scene_extent(
         .map(|tile_row| {
             let mut framing = framing.clone();
             let mut boxes: Vec<TileBox> = vec![None; tiles_across];
-            let mut faces = 0;
-            for j in tile_row * tile..((tile_row + 1) * tile).min(ny) {
+            let mut triangles = 0;
+            let mut add = |i: usize, corners: [[f32; 3]; 4]| {
+                let corners = corners.map(Vec3::from);
+                framing.add(corners);
+                let (lo, hi) = boxes[i / tile].get_or_insert((corners[0], corners[0]));
+                for c in corners {
+                    (*lo, *hi) = (lo.min(c), hi.max(c));
+                }
+            };
+            let rows = tile_row * tile..((tile_row + 1) * tile).min(ny);
+            for j in rows.clone() {
                 for &(k, face) in &layer_faces {
                     for i in 0..nx {
-                        let Some(corners) = surface_face_corners(grid, [i, j, k], face, origin)
-                        else {
-                            continue;
-                        };
-                        let corners = corners.map(Vec3::from);
-                        faces += 1;
-                        framing.add(corners);
-                        let (lo, hi) = boxes[i / tile].get_or_insert((corners[0], corners[0]));
-                        for c in corners {
-                            (*lo, *hi) = (lo.min(c), hi.max(c));
+                        if let Some(corners) = surface_face_corners(grid, [i, j, k], face, origin) {
+                            triangles += 2;
+                            add(i, corners);
                         }
                     }
                 }
             }
-            (framing, boxes, faces)
+            if options.sides {
+                for k in layers.clone() {
+                    // Which cells have faces, a row at a time: the row's, and the rows
+                    // beside it, which say which of its sides are open.
+                    let row = |j: usize| -> Vec<bool> {
+                        (0..nx).map(|i| has_faces(grid, i, j, k)).collect()
+                    };
+                    let mut before = rows.start.checked_sub(1).map(row).unwrap_or_default();
+                    let mut here = row(rows.start);
+                    for j in rows.clone() {
+                        let after = if j + 1 < ny { row(j + 1) } else { Vec::new() };
+                        let with_faces = |i: usize, at: usize| match at.cmp(&j) {
+                            std::cmp::Ordering::Less => before[i],
+                            std::cmp::Ordering::Equal => here[i],
+                            std::cmp::Ordering::Greater => after[i],
+                        };
+                        for i in (0..nx).filter(|&i| here[i]) {
+                            let open = open_sides(grid, [i, j, k], with_faces);
+                            for side in (0..4).filter(|&s| open[s]) {
+                                // A degenerate face leaves its vertices in the mesh.
+                                let (corners, kept) =
+                                    side_face_corners(grid, [i, j, k], side, origin);
+                                triangles += 2 * usize::from(kept);
+                                add(i, corners);
+                            }
+                        }
+                        before = std::mem::replace(&mut here, after);
+                    }
+                }
+            }
+            (framing, boxes, triangles)
         })
         .collect();
     let mut extent = SceneExtent {
@@ -303,23 +334,10 @@ pub fn scene_extent(
         tiles_across,
         boxes: Vec::with_capacity(rows.len() * tiles_across),
     };
-    for (framing, boxes, faces) in rows {
+    for (framing, boxes, triangles) in rows {
         extent.framing.merge(&framing);
         extent.boxes.extend(boxes);
-        extent.triangles += 2 * faces;
-    }
-    let shapes = SceneOptions {
-        property: None,
-        flat_cells: false,
-        ..options.clone()
-    };
-    let all = Columns::all(grid.dims());
-    for part in parts.iter().filter(|p| matches!(p, Part::Sides(_))) {
-        let sides = build_part(grid, &shapes, part, origin, &all)?;
-        extent
-            .framing
-            .add(sides.positions.iter().map(|&p| Vec3::from(p)));
-        extent.triangles += sides.triangle_count();
+        extent.triangles += triangles;
     }
     Ok(extent)
 }
@@ -538,20 +556,23 @@ mod tests {
 
     #[test]
     fn the_extent_of_a_scene_frames_and_counts_its_whole_mesh() {
+        // With and without side faces, all layers or some: the corners frame the
+        // scene exactly as its mesh's vertices do, degenerate faces' included.
         let grid = faulted();
-        let options = SceneOptions {
-            sides: true,
-            property: Some("PORO".into()),
-            ..SceneOptions::default()
-        };
         let origin = grid.display_origin();
-        let (whole, _) = build(&grid, &options).expect("the scene");
         let framing = Framing::new(3.0, 1.5, (30.0, 35.0));
-        let mut of_mesh = framing.clone();
-        of_mesh.add(whole.positions.iter().map(|&p| Vec3::from(p)));
-        for max_cells in [usize::MAX, 900, 200] {
-            let parts = parts(&grid, &options, max_cells).expect("the parts");
-            let extent = scene_extent(&grid, &options, &parts, origin, framing.clone());
+        for (sides, layers) in [(true, None), (false, None), (true, Some(1..3))] {
+            let options = SceneOptions {
+                layers,
+                sides,
+                property: Some("PORO".into()),
+                flat_cells: true,
+            };
+            let (whole, _) = build(&grid, &options).expect("the scene");
+            assert!(whole.triangle_count() > 10_000);
+            let mut of_mesh = framing.clone();
+            of_mesh.add(whole.positions.iter().map(|&p| Vec3::from(p)));
+            let extent = scene_extent(&grid, &options, origin, framing.clone());
             let extent = extent.expect("the extent");
             assert_eq!(extent.triangles, whole.triangle_count());
             assert_eq!(extent.framing.camera(1.0), of_mesh.camera(1.0));
@@ -563,7 +584,6 @@ mod tests {
                 Columns::all(grid.dims())
             );
         }
-        assert!(whole.triangle_count() > 15_000);
     }
 
     #[test]
@@ -610,7 +630,7 @@ mod tests {
         let origin = grid.display_origin();
         let parts = parts(&grid, &options, 900).expect("the parts");
         let framing = Framing::new(1.0, 1.5, (30.0, 60.0));
-        let extent = scene_extent(&grid, &options, &parts, origin, framing).expect("the extent");
+        let extent = scene_extent(&grid, &options, origin, framing).expect("the extent");
         let centre = column_top(&grid, None, [30, 20], origin).expect("a face");
         let camera = extent.framing.camera(0.1).centred_on(Vec3::from(centre));
         let columns = extent.columns_in_view(&camera, 1.5);

@@ -353,7 +353,7 @@ fn draw_in_parts(
     );
     bar.set_message("framing, then drawing: parts");
     let framing = Framing::new(args.frame.zscale, aspect, (az, el));
-    let extent = scene::scene_extent(grid, options, &parts, origin, framing)?;
+    let extent = scene::scene_extent(grid, options, origin, framing)?;
     bar.inc(1);
     let framing = &extent.framing;
     let Some(bounds) = framing.bounds() else {

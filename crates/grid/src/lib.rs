@@ -22,8 +22,8 @@ pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;
 pub use surface::{
-    Columns, Face, layer_surface, layer_surface_in, layer_surfaces, layer_surfaces_in,
-    side_surfaces, side_surfaces_among, surface_face_corners,
+    Columns, Face, has_faces, layer_surface, layer_surface_in, layer_surfaces, layer_surfaces_in,
+    open_sides, side_face_corners, side_surfaces, side_surfaces_among, surface_face_corners,
 };
 pub use terrain::{Terrain, TerrainInput, TerrainSynth};
 

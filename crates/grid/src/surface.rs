@@ -139,12 +139,12 @@ pub fn surface_face_corners(
     origin: [f64; 3],
 ) -> Option<[[f32; 3]; 4]> {
     let [i, j, k] = cell;
-    if !grid.is_active(i, j, k) || is_pinched(grid, i, j, k) {
+    if !has_faces(grid, i, j, k) {
         return None;
     }
     let [a, b, c, d] =
         [[0, 0], [1, 0], [1, 1], [0, 1]].map(|at| face_corner(grid, cell, face, at, origin));
-    (triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA).then_some([a, b, c, d])
+    face_has_area([a, b, c, d]).then_some([a, b, c, d])
 }
 
 /// The faces of the cells in `columns` of the layer surface of layer `k`
@@ -333,19 +333,69 @@ pub fn side_surfaces(
     property: Option<&str>,
     origin: [f64; 3],
 ) -> Result<SurfaceMesh> {
-    side_surfaces_among(grid, layers.clone(), layers, property, origin)
+    let all = Columns::all(grid.dims());
+    side_surfaces_among(grid, layers.clone(), layers, property, origin, &all)
 }
 
-/// The side faces of `layers` (as [`side_surfaces`]), a run of the layers `scene`
-/// draws: the property's values at the nodes also average the side faces of the
-/// scene's cells just above and below the run, so that runs drawn one after another
-/// colour their shared nodes as the whole scene's side faces do.
+/// Whether cell `(i, j, k)` has faces on the surfaces: active and not pinched out.
+pub fn has_faces(grid: &CornerPointGrid, i: usize, j: usize, k: usize) -> bool {
+    grid.is_active(i, j, k) && !is_pinched(grid, i, j, k)
+}
+
+/// Which side faces of cell `(i, j, k)`, one that [`has_faces`], are open (west,
+/// east, south, north, on pillar lines i, i + 1, j, j + 1): those whose neighbour is
+/// missing, has no faces (`has_faces(i, j)` on layer k), or is split from it by a
+/// fault.
+pub fn open_sides(
+    grid: &CornerPointGrid,
+    [i, j, k]: [usize; 3],
+    has_faces: impl Fn(usize, usize) -> bool,
+) -> [bool; 4] {
+    let Dims { nx, ny, .. } = grid.dims();
+    [
+        i == 0 || !has_faces(i - 1, j) || grid.i_face_faulted(i - 1, j, k),
+        i + 1 == nx || !has_faces(i + 1, j) || grid.i_face_faulted(i, j, k),
+        j == 0 || !has_faces(i, j - 1) || grid.j_face_faulted(i, j - 1, k),
+        j + 1 == ny || !has_faces(i, j + 1) || grid.j_face_faulted(i, j, k),
+    ]
+}
+
+/// The planes and sides of the faces [`open_sides`] lists, in its order.
+const SIDES: [(Plane, usize); 4] = [(Plane::I, 0), (Plane::I, 1), (Plane::J, 0), (Plane::J, 1)];
+
+/// The corners of cell `(i, j, k)`'s side face `side` (in [`open_sides`]' order;
+/// display frame, relative to `origin`), as the side surfaces place its vertices, and
+/// whether they keep it as a face: a degenerate one leaves its vertices alone.
+pub fn side_face_corners(
+    grid: &CornerPointGrid,
+    cell: [usize; 3],
+    side: usize,
+    origin: [f64; 3],
+) -> ([[f32; 3]; 4], bool) {
+    let (plane, facing) = SIDES[side];
+    let corners =
+        SideBuilder::corners(plane, cell, facing, grid).map(|key| key_point(grid, key, origin));
+    (corners, face_has_area(corners))
+}
+
+/// Whether a face of corners `[a, b, c, d]` (two triangles, a b c and a c d) is not
+/// degenerate.
+fn face_has_area([a, b, c, d]: [[f32; 3]; 4]) -> bool {
+    triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA
+}
+
+/// The side faces of `layers` (as [`side_surfaces`]) in `columns`, for a run of the
+/// layers `scene` draws: the property's values at the nodes also average the side
+/// faces of the scene's cells just outside the run and the columns, so that runs and
+/// rectangles drawn one after another colour their shared nodes as the whole scene's
+/// side faces do.
 pub fn side_surfaces_among(
     grid: &CornerPointGrid,
     layers: Range<usize>,
     scene: Range<usize>,
     property: Option<&str>,
     origin: [f64; 3],
+    columns: &Columns,
 ) -> Result<SurfaceMesh> {
     let Dims { nx, ny, nz } = grid.dims();
     if scene.end > nz || layers.is_empty() || layers.start < scene.start || layers.end > scene.end {
@@ -357,6 +407,16 @@ pub fn side_surfaces_among(
             scene.end
         )));
     }
+    let Columns { i: cols, j: rows } = columns;
+    if columns.is_empty() || cols.end > nx || rows.end > ny {
+        return Err(Error::Invalid(format!(
+            "columns {}..{} of rows {}..{} are not within the grid's 1..{nx} of 1..{ny}",
+            cols.start + 1,
+            cols.end,
+            rows.start + 1,
+            rows.end
+        )));
+    }
     let values = cell_values(grid, property)?;
     let mut builder = SideBuilder {
         grid,
@@ -366,42 +426,39 @@ pub fn side_surfaces_among(
         sums: Vec::new(),
         with_scalar: values.is_some(),
     };
-    // The run's own faces first; then, for the values alone, the scene's layers just
-    // outside it, whose faces share nodes with the run's.
-    let neighbours = if builder.with_scalar {
-        [
-            (layers.start > scene.start).then(|| layers.start - 1),
-            (layers.end < scene.end).then_some(layers.end),
-        ]
-    } else {
-        [None, None]
-    };
-    let values_only = neighbours.into_iter().flatten().map(|k| (k, false));
-    for (k, own) in layers.map(|k| (k, true)).chain(values_only) {
-        // Which cells have open sides, found in parallel: most cells have none, and
-        // testing them is most of the work. The faces are then added in (j, i) order.
-        let live: Vec<bool> = (0..nx * ny)
+    // The cells beside the columns share nodes with their faces and lend them values;
+    // which of those cells have open sides depends on the cells beside them in turn.
+    let around =
+        |r: &Range<usize>, n: usize, by: usize| r.start.saturating_sub(by)..(r.end + by).min(n);
+    let (seen_i, seen_j) = (around(cols, nx, 1), around(rows, ny, 1));
+    let (tested_i, tested_j) = (around(cols, nx, 2), around(rows, ny, 2));
+    let width = tested_i.len();
+    let open_cells = |k: usize| -> Vec<(Cell, [bool; 4])> {
+        // Which cells have faces, found in parallel: most cells have no open side,
+        // and testing them is most of the work. The faces are then added in (j, i)
+        // order.
+        let with_faces: Vec<bool> = (0..width * tested_j.len())
             .into_par_iter()
             .map(|c| {
-                let (i, j) = (c % nx, c / nx);
-                grid.is_active(i, j, k) && !is_pinched(grid, i, j, k)
+                has_faces(
+                    grid,
+                    tested_i.start + c % width,
+                    tested_j.start + c / width,
+                    k,
+                )
             })
             .collect();
-        let live = |i: usize, j: usize| live[j * nx + i];
-        let open_cells: Vec<(Cell, [bool; 4])> = (0..ny)
+        let with_faces =
+            |i: usize, j: usize| with_faces[(j - tested_j.start) * width + i - tested_i.start];
+        seen_j
+            .clone()
             .into_par_iter()
             .flat_map_iter(|j| {
-                (0..nx).filter_map(move |i| {
-                    if !live(i, j) {
+                seen_i.clone().filter_map(move |i| {
+                    if !with_faces(i, j) {
                         return None;
                     }
-                    // West and east faces (on pillar lines i and i + 1), south and north.
-                    let open = [
-                        i == 0 || !live(i - 1, j) || grid.i_face_faulted(i - 1, j, k),
-                        i + 1 == nx || !live(i + 1, j) || grid.i_face_faulted(i, j, k),
-                        j == 0 || !live(i, j - 1) || grid.j_face_faulted(i, j - 1, k),
-                        j + 1 == ny || !live(i, j + 1) || grid.j_face_faulted(i, j, k),
-                    ];
+                    let open = open_sides(grid, [i, j, k], with_faces);
                     open.contains(&true).then(|| {
                         let cell = Cell {
                             ijk: [i, j, k],
@@ -412,15 +469,34 @@ pub fn side_surfaces_among(
                     })
                 })
             })
-            .collect();
-        let sides = [(Plane::I, 0), (Plane::I, 1), (Plane::J, 0), (Plane::J, 1)];
-        for (cell, open) in &open_cells {
-            for (&(plane, side), _) in sides.iter().zip(open).filter(|(_, o)| **o) {
-                if own {
-                    builder.face(plane, cell, side);
-                } else {
-                    builder.add_value(plane, cell, side);
-                }
+            .collect()
+    };
+    // The run's own faces in the columns first; then, for the values alone, those of
+    // the cells beside the columns, and of the scene's layers just outside the run.
+    let inside = |cell: &Cell| cols.contains(&cell.ijk[0]) && rows.contains(&cell.ijk[1]);
+    let mut lenders: Vec<(Cell, [bool; 4])> = Vec::new();
+    for k in layers.clone() {
+        for (cell, open) in open_cells(k) {
+            if !inside(&cell) {
+                lenders.push((cell, open));
+                continue;
+            }
+            for ((plane, side), _) in SIDES.into_iter().zip(open).filter(|(_, o)| *o) {
+                builder.face(plane, &cell, side);
+            }
+        }
+    }
+    if builder.with_scalar {
+        let neighbours = [
+            (layers.start > scene.start).then(|| layers.start - 1),
+            (layers.end < scene.end).then_some(layers.end),
+        ];
+        for k in neighbours.into_iter().flatten() {
+            lenders.extend(open_cells(k));
+        }
+        for (cell, open) in &lenders {
+            for ((plane, side), _) in SIDES.into_iter().zip(*open).filter(|(_, o)| *o) {
+                builder.add_value(plane, cell, side);
             }
         }
     }
@@ -451,6 +527,13 @@ struct SideBuilder<'g> {
     with_scalar: bool,
 }
 
+/// Where the side vertex of `key` lies, relative to `origin` (display frame).
+fn key_point(grid: &CornerPointGrid, key: VertexKey, origin: [f64; 3]) -> [f32; 3] {
+    let (_, _, pi, pj, _, depth) = key;
+    let local = grid.point_on_pillar(pi, pj, f64::from(f32::from_bits(depth)));
+    CornerPointGrid::to_display(origin, grid.to_map(local))
+}
+
 /// A cell whose side faces are being added: its indices, the centre its faces turn
 /// away from, and its property value.
 struct Cell {
@@ -472,8 +555,12 @@ impl SideBuilder<'_> {
     /// The face of `cell` on its `side` (0: low, 1: high) of `plane`: per corner, in
     /// order around the face, its pillar, node level and depth, the key its vertex is
     /// shared by.
-    fn corners(plane: Plane, cell: &Cell, side: usize, grid: &CornerPointGrid) -> [VertexKey; 4] {
-        let [i, j, k] = cell.ijk;
+    fn corners(
+        plane: Plane,
+        [i, j, k]: [usize; 3],
+        side: usize,
+        grid: &CornerPointGrid,
+    ) -> [VertexKey; 4] {
         // Corners (along, level): along runs over the face's two pillars.
         [(0, 0), (1, 0), (1, 1), (0, 1)].map(|(along, dk)| {
             let c = match plane {
@@ -492,7 +579,7 @@ impl SideBuilder<'_> {
         if cell.value.is_nan() {
             return;
         }
-        for key in Self::corners(plane, cell, side, self.grid) {
+        for key in Self::corners(plane, cell.ijk, side, self.grid) {
             if let Some(&id) = self.vertices.get(&key) {
                 let s = &mut self.sums[id as usize];
                 s.0 += f64::from(cell.value);
@@ -506,19 +593,12 @@ impl SideBuilder<'_> {
         let ([i, j, k], value, centre) = (cell.ijk, cell.value, cell.centre);
         let mut ids = [0u32; 4];
         let mut pts = [[0f32; 3]; 4];
-        for (n, key) in Self::corners(plane, cell, side, self.grid)
+        for (n, key) in Self::corners(plane, cell.ijk, side, self.grid)
             .into_iter()
             .enumerate()
         {
-            let (_, _, pi, pj, level, depth) = key;
-            let point = CornerPointGrid::to_display(
-                self.origin,
-                self.grid.to_map(self.grid.point_on_pillar(
-                    pi,
-                    pj,
-                    f64::from(f32::from_bits(depth)),
-                )),
-            );
+            let (_, _, pi, pj, level, _) = key;
+            let point = key_point(self.grid, key, self.origin);
             pts[n] = point;
             let along_node = if plane == Plane::I { pj } else { pi };
             let next = self.mesh.positions.len() as u32;
@@ -537,9 +617,7 @@ impl SideBuilder<'_> {
             }
             ids[n] = id;
         }
-        if triangle_area(pts[0], pts[1], pts[2]) + triangle_area(pts[0], pts[2], pts[3])
-            < MIN_FACE_AREA
-        {
+        if !face_has_area(pts) {
             return;
         }
         // Wound counter-clockwise seen from outside the cell (the normal by the
@@ -925,6 +1003,7 @@ mod tests {
         let g = faulted();
         let origin = g.display_origin();
         let scene = 1..5;
+        let all = Columns::all(g.dims());
         let whole = side_surfaces(&g, scene.clone(), Some("PORO"), origin).unwrap();
         let corners = |m: &SurfaceMesh| -> Vec<([f32; 3], [f32; 2], f32)> {
             m.triangles
@@ -938,7 +1017,8 @@ mod tests {
         };
         let mut runs = SurfaceMesh::with_origin(origin);
         for run in [1..2, 2..4, 4..5] {
-            let part = side_surfaces_among(&g, run, scene.clone(), Some("PORO"), origin).unwrap();
+            let part = side_surfaces_among(&g, run, scene.clone(), Some("PORO"), origin, &all);
+            let part = part.unwrap();
             runs.append(&part);
         }
         assert!(whole.triangle_count() > 500);
@@ -959,7 +1039,94 @@ mod tests {
             .collect();
         assert!(alone.iter().zip(&want).any(|(a, b)| a.2 != b.2));
         // A run outside the scene is refused.
-        assert!(side_surfaces_among(&g, 0..2, scene, None, origin).is_err());
+        assert!(side_surfaces_among(&g, 0..2, scene, None, origin, &all).is_err());
+    }
+
+    #[test]
+    fn side_faces_in_rectangles_of_columns_are_those_of_the_whole_scene() {
+        // Layers 1..5 of the faulted grid as two runs, each cut into four rectangles
+        // of columns whose edges cross faults and the outer shell: every side face of
+        // the scene is in exactly one piece, with the same corners, coordinates and
+        // node values (averaged across the rectangles' and the runs' edges).
+        let g = faulted();
+        let origin = g.display_origin();
+        let scene = 1..5;
+        let whole = side_surfaces(&g, scene.clone(), Some("PORO"), origin).unwrap();
+        let faces = |m: &SurfaceMesh| -> Vec<([u32; 3], Vec<Corner>)> {
+            let mut faces: Vec<_> = m
+                .cell_faces
+                .iter()
+                .map(|f| {
+                    let triangles = f.triangles.iter().flat_map(|&t| m.triangles[t as usize]);
+                    (f.cell, triangles.map(|v| corner(m, v)).collect())
+                })
+                .collect();
+            faces.sort_by(|a, b| a.partial_cmp(b).expect("finite corners"));
+            faces
+        };
+        let mut pieces = SurfaceMesh::with_origin(origin);
+        for run in [1..3, 3..5] {
+            for (i, j) in [0..7, 7..24]
+                .into_iter()
+                .flat_map(|i| [0..10, 10..18].map(|j| (i.clone(), j)))
+            {
+                let columns = Columns { i, j };
+                let piece = side_surfaces_among(
+                    &g,
+                    run.clone(),
+                    scene.clone(),
+                    Some("PORO"),
+                    origin,
+                    &columns,
+                );
+                let piece = piece.unwrap();
+                piece.validate().unwrap();
+                pieces.append(&piece);
+            }
+        }
+        assert!(whole.triangle_count() > 500);
+        assert!(faces(&pieces) == faces(&whole), "side faces differ");
+        let beyond = Columns { i: 0..25, j: 0..18 };
+        assert!(side_surfaces_among(&g, 1..3, scene, None, origin, &beyond).is_err());
+    }
+
+    #[test]
+    fn the_corners_of_a_side_face_are_its_vertices() {
+        // open_sides and side_face_corners name the side surfaces' faces, with their
+        // vertices' positions, bit for bit, and the degenerate ones they leave out.
+        let g = faulted();
+        let origin = g.display_origin();
+        let d = g.dims();
+        let sides = side_surfaces(&g, 2..3, None, origin).unwrap();
+        let mut faces = sides.cell_faces.iter();
+        for j in 0..d.ny {
+            for i in 0..d.nx {
+                if !has_faces(&g, i, j, 2) {
+                    continue;
+                }
+                let open = open_sides(&g, [i, j, 2], |i, j| has_faces(&g, i, j, 2));
+                for side in (0..4).filter(|&s| open[s]) {
+                    let (corners, kept) = side_face_corners(&g, [i, j, 2], side, origin);
+                    if !kept {
+                        continue;
+                    }
+                    let f = faces.next().expect("a face for each open side");
+                    assert_eq!(f.cell, [i as u32, j as u32, 2]);
+                    let [a, b] = f.triangles.map(|t| sides.triangles[t as usize]);
+                    let mut ids: Vec<u32> = a.into_iter().chain(b).collect();
+                    ids.sort();
+                    ids.dedup();
+                    let mut vertices: Vec<[f32; 3]> =
+                        ids.iter().map(|&v| sides.positions[v as usize]).collect();
+                    vertices.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+                    let mut corners = corners.to_vec();
+                    corners.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
+                    assert_eq!(vertices, corners);
+                }
+            }
+        }
+        assert!(faces.next().is_none());
+        assert!(sides.triangle_count() > 200);
     }
 
     #[test]
