@@ -105,6 +105,30 @@ impl Columns {
         self.i.is_empty() || self.j.is_empty()
     }
 
+    /// These columns and `by` more on every side, within a grid of `dims`.
+    pub fn around(&self, by: usize, dims: Dims) -> Columns {
+        let widen = |r: &Range<usize>, n: usize| r.start.saturating_sub(by)..(r.end + by).min(n);
+        Columns {
+            i: widen(&self.i, dims.nx),
+            j: widen(&self.j, dims.ny),
+        }
+    }
+
+    /// Refuses an empty rectangle, or one beyond a grid of `dims`.
+    fn check(&self, Dims { nx, ny, .. }: Dims) -> Result<()> {
+        let Columns { i, j } = self;
+        if self.is_empty() || i.end > nx || j.end > ny {
+            return Err(Error::Invalid(format!(
+                "columns {}..{} of rows {}..{} are not within the grid's 1..{nx} of 1..{ny}",
+                i.start + 1,
+                i.end,
+                j.start + 1,
+                j.end
+            )));
+        }
+        Ok(())
+    }
+
     /// The columns of these in rows `rows`.
     pub fn in_rows(&self, rows: Range<usize>) -> Columns {
         Columns {
@@ -160,23 +184,15 @@ pub fn layer_surface_in(
     origin: [f64; 3],
     columns: &Columns,
 ) -> Result<SurfaceMesh> {
-    let Dims { nx, ny, nz } = grid.dims();
+    let nz = grid.dims().nz;
     if k >= nz {
         return Err(Error::Invalid(format!(
             "layer {} does not exist: the grid has {nz} layers",
             k + 1
         )));
     }
+    columns.check(grid.dims())?;
     let Columns { i: cols, j: rows } = columns;
-    if columns.is_empty() || cols.end > nx || rows.end > ny {
-        return Err(Error::Invalid(format!(
-            "columns {}..{} of rows {}..{} are not within the grid's 1..{nx} of 1..{ny}",
-            cols.start + 1,
-            cols.end,
-            rows.start + 1,
-            rows.end
-        )));
-    }
     let values = cell_values(grid, property)?;
     let dk = face.dk();
     let depth =
@@ -184,8 +200,10 @@ pub fn layer_surface_in(
 
     // Which cells contribute a face: the rectangle's, and those around it, whose
     // cells share the nodes of its edges.
-    let seen_i = cols.start.saturating_sub(1)..(cols.end + 1).min(nx);
-    let seen_j = rows.start.saturating_sub(1)..(rows.end + 1).min(ny);
+    let Columns {
+        i: seen_i,
+        j: seen_j,
+    } = columns.around(1, grid.dims());
     let width = seen_i.len();
     let kept: Vec<bool> = (0..width * seen_j.len())
         .into_par_iter()
@@ -397,7 +415,7 @@ pub fn side_surfaces_among(
     origin: [f64; 3],
     columns: &Columns,
 ) -> Result<SurfaceMesh> {
-    let Dims { nx, ny, nz } = grid.dims();
+    let nz = grid.dims().nz;
     if scene.end > nz || layers.is_empty() || layers.start < scene.start || layers.end > scene.end {
         return Err(Error::Invalid(format!(
             "layers {}..{} are not within the {}..{} drawn of the grid's 1..{nz}",
@@ -407,16 +425,8 @@ pub fn side_surfaces_among(
             scene.end
         )));
     }
+    columns.check(grid.dims())?;
     let Columns { i: cols, j: rows } = columns;
-    if columns.is_empty() || cols.end > nx || rows.end > ny {
-        return Err(Error::Invalid(format!(
-            "columns {}..{} of rows {}..{} are not within the grid's 1..{nx} of 1..{ny}",
-            cols.start + 1,
-            cols.end,
-            rows.start + 1,
-            rows.end
-        )));
-    }
     let values = cell_values(grid, property)?;
     let mut builder = SideBuilder {
         grid,
@@ -428,10 +438,14 @@ pub fn side_surfaces_among(
     };
     // The cells beside the columns share nodes with their faces and lend them values;
     // which of those cells have open sides depends on the cells beside them in turn.
-    let around =
-        |r: &Range<usize>, n: usize, by: usize| r.start.saturating_sub(by)..(r.end + by).min(n);
-    let (seen_i, seen_j) = (around(cols, nx, 1), around(rows, ny, 1));
-    let (tested_i, tested_j) = (around(cols, nx, 2), around(rows, ny, 2));
+    let Columns {
+        i: seen_i,
+        j: seen_j,
+    } = columns.around(1, grid.dims());
+    let Columns {
+        i: tested_i,
+        j: tested_j,
+    } = columns.around(2, grid.dims());
     let width = tested_i.len();
     let open_cells = |k: usize| -> Vec<(Cell, [bool; 4])> {
         // Which cells have faces, found in parallel: most cells have no open side,
@@ -875,6 +889,50 @@ mod tests {
         (m.positions[v], m.texcoords[v], m.scalars[v].to_bits())
     }
 
+    /// The faces of `m` with their cells and corners, sorted: pieces of a surface
+    /// appended in any order give the whole's.
+    fn sorted_faces(m: &SurfaceMesh) -> Vec<([u32; 3], Vec<Corner>)> {
+        let mut faces: Vec<_> = m
+            .cell_faces
+            .iter()
+            .map(|f| {
+                let triangles = f.triangles.iter().flat_map(|&t| m.triangles[t as usize]);
+                (f.cell, triangles.map(|v| corner(m, v)).collect())
+            })
+            .collect();
+        faces.sort_by(|a, b| a.partial_cmp(b).expect("finite corners"));
+        faces
+    }
+
+    /// The rectangles of columns that cuts `across` i and `along` j make.
+    fn rectangles<const I: usize, const J: usize>(
+        across: [Range<usize>; I],
+        along: [Range<usize>; J],
+    ) -> impl Iterator<Item = Columns> {
+        across
+            .into_iter()
+            .flat_map(move |i| along.clone().map(|j| Columns { i: i.clone(), j }))
+    }
+
+    /// The faces in `columns` of `g`'s layer 2 with PORO, checked, and with every
+    /// vertex used: the cells around the columns lend values, not nodes.
+    fn layer_2_in(g: &CornerPointGrid, face: Face, columns: &Columns) -> SurfaceMesh {
+        let piece = layer_surface_in(g, 2, face, Some("PORO"), g.display_origin(), columns);
+        let piece = piece.unwrap();
+        piece.validate().unwrap();
+        let mut used = vec![false; piece.vertex_count()];
+        piece
+            .triangles
+            .iter()
+            .flatten()
+            .for_each(|&v| used[v as usize] = true);
+        assert!(
+            used.iter().all(|&u| u),
+            "{columns:?}: a vertex no face uses"
+        );
+        piece
+    }
+
     #[test]
     fn bands_of_rows_make_the_whole_layer_surface() {
         // The faulted grid's layer 2, top and bottom, as bands of 1, 6 and 11 rows: the
@@ -894,16 +952,7 @@ mod tests {
             let mut bands = SurfaceMesh::with_origin(origin);
             for rows in [0..1, 1..7, 7..18] {
                 let columns = Columns::all(g.dims()).in_rows(rows);
-                let band = layer_surface_in(&g, 2, face, Some("PORO"), origin, &columns).unwrap();
-                band.validate().unwrap();
-                // Every vertex is used: the rows beside a band lend values, not nodes.
-                let mut used = vec![false; band.vertex_count()];
-                band.triangles
-                    .iter()
-                    .flatten()
-                    .for_each(|&v| used[v as usize] = true);
-                assert!(used.iter().all(|&u| u));
-                bands.append(&band);
+                bands.append(&layer_2_in(&g, face, &columns));
             }
             assert!(whole.triangle_count() > 500);
             assert_eq!(bands.cell_faces.len(), whole.cell_faces.len());
@@ -928,39 +977,17 @@ mod tests {
         // none of its faces uses.
         let g = faulted();
         let origin = g.display_origin();
-        let faces = |m: &SurfaceMesh| -> Vec<([u32; 3], Vec<Corner>)> {
-            let mut faces: Vec<_> = m
-                .cell_faces
-                .iter()
-                .map(|f| {
-                    let triangles = f.triangles.iter().flat_map(|&t| m.triangles[t as usize]);
-                    (f.cell, triangles.map(|v| corner(m, v)).collect())
-                })
-                .collect();
-            faces.sort_by_key(|(cell, _)| *cell);
-            faces
-        };
         for face in [Face::Top, Face::Bottom] {
             let whole = layer_surface(&g, 2, face, Some("PORO"), origin).unwrap();
             let mut pieces = SurfaceMesh::with_origin(origin);
-            for (i, j) in [0..5, 5..17, 17..24]
-                .into_iter()
-                .flat_map(|i| [0..9, 9..18].map(|j| (i.clone(), j)))
-            {
-                let piece = layer_surface_in(&g, 2, face, Some("PORO"), origin, &Columns { i, j });
-                let piece = piece.unwrap();
-                piece.validate().unwrap();
-                let mut used = vec![false; piece.vertex_count()];
-                piece
-                    .triangles
-                    .iter()
-                    .flatten()
-                    .for_each(|&v| used[v as usize] = true);
-                assert!(used.iter().all(|&u| u));
-                pieces.append(&piece);
+            for columns in rectangles([0..5, 5..17, 17..24], [0..9, 9..18]) {
+                pieces.append(&layer_2_in(&g, face, &columns));
             }
             assert!(whole.triangle_count() > 500);
-            assert!(faces(&pieces) == faces(&whole), "{face:?}: faces differ");
+            assert!(
+                sorted_faces(&pieces) == sorted_faces(&whole),
+                "{face:?}: faces differ"
+            );
         }
     }
 
@@ -1052,25 +1079,9 @@ mod tests {
         let origin = g.display_origin();
         let scene = 1..5;
         let whole = side_surfaces(&g, scene.clone(), Some("PORO"), origin).unwrap();
-        let faces = |m: &SurfaceMesh| -> Vec<([u32; 3], Vec<Corner>)> {
-            let mut faces: Vec<_> = m
-                .cell_faces
-                .iter()
-                .map(|f| {
-                    let triangles = f.triangles.iter().flat_map(|&t| m.triangles[t as usize]);
-                    (f.cell, triangles.map(|v| corner(m, v)).collect())
-                })
-                .collect();
-            faces.sort_by(|a, b| a.partial_cmp(b).expect("finite corners"));
-            faces
-        };
         let mut pieces = SurfaceMesh::with_origin(origin);
         for run in [1..3, 3..5] {
-            for (i, j) in [0..7, 7..24]
-                .into_iter()
-                .flat_map(|i| [0..10, 10..18].map(|j| (i.clone(), j)))
-            {
-                let columns = Columns { i, j };
+            for columns in rectangles([0..7, 7..24], [0..10, 10..18]) {
                 let piece = side_surfaces_among(
                     &g,
                     run.clone(),
@@ -1085,7 +1096,10 @@ mod tests {
             }
         }
         assert!(whole.triangle_count() > 500);
-        assert!(faces(&pieces) == faces(&whole), "side faces differ");
+        assert!(
+            sorted_faces(&pieces) == sorted_faces(&whole),
+            "side faces differ"
+        );
         let beyond = Columns { i: 0..25, j: 0..18 };
         assert!(side_surfaces_among(&g, 1..3, scene, None, origin, &beyond).is_err());
     }
