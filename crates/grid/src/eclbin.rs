@@ -39,7 +39,7 @@ use crate::{CornerPointGrid, ReadOptions, Result};
 /// [`CornerPointGrid::warnings`] with the file, record and keyword.
 pub fn read_egrid(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> {
     let file = EclFile::open(path)?;
-    let mut grid = parse_egrid_bytes(path, file.bytes(), options)?;
+    let mut grid = egrid::egrid_from_records(path, file.records(), options)?;
     drop(file);
     if options.load_results && !options.grid_only {
         load_results(&mut grid, path);
@@ -50,7 +50,7 @@ pub fn read_egrid(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid>
 /// Reads an INIT file's static properties into `grid` (see [`parse_init_bytes`]).
 pub fn read_init(grid: &mut CornerPointGrid, path: &Path) -> Result<()> {
     let file = EclFile::open(path)?;
-    parse_init_bytes(grid, path, file.bytes())
+    results::init_from_records(grid, path, file.records())
 }
 
 /// Appends the report steps of a restart file to `grid`: a unified `.UNRST`, or one
@@ -65,7 +65,7 @@ pub fn read_restart(grid: &mut CornerPointGrid, path: &Path) -> Result<()> {
         ));
     }
     let file = EclFile::open(path)?;
-    parse_restart_bytes(grid, path, file.bytes())
+    results::restart_from_records(grid, path, file.records())
 }
 
 /// The result files that belong to an EGRID: same directory and base name, extension

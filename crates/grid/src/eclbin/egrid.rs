@@ -27,11 +27,20 @@ struct Found<'a> {
 pub fn parse_egrid_bytes(
     path: &Path,
     bytes: &[u8],
+    options: &ReadOptions,
+) -> Result<CornerPointGrid> {
+    egrid_from_records(path, Records::new(path, bytes), options)
+}
+
+/// [`parse_egrid_bytes`] over the keywords `records` walks.
+pub(crate) fn egrid_from_records(
+    path: &Path,
+    records: Records<'_>,
     _options: &ReadOptions,
 ) -> Result<CornerPointGrid> {
     let mut found = Found::default();
     let mut in_lgr = false;
-    for view in Records::new(path, bytes) {
+    for view in records {
         let view = view?;
         match view.name() {
             "LGR" => in_lgr = true,

@@ -191,7 +191,8 @@ pub struct EclFile {
 
 impl EclFile {
     /// Maps `path` read-only. The whole file is prefaulted because every reader here
-    /// walks it from start to end.
+    /// walks it from start to end; the pages of what [`Self::records`] decodes are
+    /// given back as they are decoded.
     pub fn open(path: &Path) -> Result<Self> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let len = file.metadata().map_err(|e| Error::io(path, e))?.len();
@@ -224,9 +225,13 @@ impl EclFile {
         self.map.as_deref().unwrap_or(&[])
     }
 
-    /// The keywords of the file, in order.
+    /// The keywords of the file, in order. What their views decode is given back to
+    /// the page cache as it is decoded ([`RecordView::to_f32`] and the like).
     pub fn records(&self) -> Records<'_> {
-        Records::new(&self.path, self.bytes())
+        Records {
+            map: self.map.as_ref(),
+            ..Records::new(&self.path, self.bytes())
+        }
     }
 }
 
@@ -251,6 +256,8 @@ pub struct Records<'a> {
     pos: usize,
     index: usize,
     failed: bool,
+    /// The file map `bytes` are, when they are one.
+    map: Option<&'a Mmap>,
 }
 
 /// One keyword of a file, checked but not decoded.
@@ -264,6 +271,8 @@ pub struct RecordView<'a> {
     offset: u64,
     /// The data records, markers included.
     body: &'a [u8],
+    /// The file map `body` lies in, when it does.
+    map: Option<&'a Mmap>,
 }
 
 /// Reads the 4-byte big-endian length marker at `pos`.
@@ -281,6 +290,7 @@ impl<'a> Records<'a> {
             pos: 0,
             index: 0,
             failed: false,
+            map: None,
         }
     }
 
@@ -421,6 +431,7 @@ impl<'a> Records<'a> {
             index: self.index,
             offset: offset as u64,
             body: &self.bytes[body_start..pos],
+            map: self.map,
         })
     }
 }
@@ -459,6 +470,30 @@ impl<'a> Iterator for Blocks<'a> {
 /// Data records per parallel task when decoding: enough work to pay for the task.
 const BLOCKS_PER_TASK: usize = 8;
 
+/// Data records decoded before their file pages are given back (about 64 MiB).
+const BLOCKS_PER_RELEASE: usize = 16 * 1024;
+
+/// Gives the pages of `bytes`, a part of `map` already decoded, back to the page
+/// cache, so that a multi-gigabyte array is not resident twice, as file pages and as
+/// values. Only whole 64 KiB pieces go, which is a whole number of pages on every
+/// common page size; a failure leaves them resident, which is harmless.
+fn give_back(map: &Mmap, bytes: &[u8]) {
+    const PIECE: usize = 64 * 1024;
+    let Some(offset) = (bytes.as_ptr() as usize).checked_sub(map.as_ptr() as usize) else {
+        return;
+    };
+    let start = offset.next_multiple_of(PIECE);
+    let end = (offset + bytes.len()) / PIECE * PIECE;
+    if end > start && end <= map.len() {
+        #[cfg(unix)]
+        // SAFETY: the map is private and read-only, so dropping its pages loses
+        // nothing: a later read of them faults them in from the file again.
+        let _ = unsafe {
+            map.unchecked_advise_range(memmap2::UncheckedAdvice::DontNeed, start, end - start)
+        };
+    }
+}
+
 impl<'a> RecordView<'a> {
     /// The keyword name, trailing blanks removed.
     pub fn name(&self) -> &'a str {
@@ -493,6 +528,13 @@ impl<'a> RecordView<'a> {
         binary_error(self.path, self.index, self.name, self.offset, message)
     }
 
+    /// The bytes of the body from address `from` to `to`, when both lie in it.
+    fn body_range(&self, from: usize, to: usize) -> Option<&'a [u8]> {
+        let start = from.checked_sub(self.body.as_ptr() as usize)?;
+        let end = to.checked_sub(self.body.as_ptr() as usize)?;
+        self.body.get(start..end)
+    }
+
     fn blocks(&self) -> Blocks<'a> {
         Blocks {
             body: self.body,
@@ -516,16 +558,30 @@ impl<'a> RecordView<'a> {
             jobs.push((block, head));
             rest = tail;
         }
-        jobs.into_par_iter()
-            .with_min_len(BLOCKS_PER_TASK)
-            .for_each(|(src, dst)| {
-                for (d, s) in dst.iter_mut().zip(src.chunks_exact(N)) {
-                    // chunks_exact(N) yields N bytes, so this always converts.
-                    if let Ok(item) = <[u8; N]>::try_from(s) {
-                        *d = conv(item);
+        // A piece at a time, whose file pages then go back.
+        for piece in jobs.chunks_mut(BLOCKS_PER_RELEASE) {
+            piece
+                .par_iter_mut()
+                .with_min_len(BLOCKS_PER_TASK)
+                .for_each(|(src, dst)| {
+                    for (d, s) in dst.iter_mut().zip(src.chunks_exact(N)) {
+                        // chunks_exact(N) yields N bytes, so this always converts.
+                        if let Ok(item) = <[u8; N]>::try_from(s) {
+                            *d = conv(item);
+                        }
                     }
+                });
+            if let (Some(map), Some((first, _)), Some((last, _))) =
+                (self.map, piece.first(), piece.last())
+            {
+                let from = first.as_ptr() as usize;
+                let to = last.as_ptr() as usize + last.len();
+                // The piece's blocks are contiguous in the map, markers between them.
+                if let Some(bytes) = self.body_range(from, to) {
+                    give_back(map, bytes);
                 }
-            });
+            }
+        }
         out
     }
 

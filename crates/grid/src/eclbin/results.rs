@@ -133,13 +133,22 @@ impl LgrSkip {
 /// cells, every other INTE/REAL/DOUB array of one value per active cell mapped onto
 /// the cells. Nothing in `grid` changes unless the whole file reads.
 pub fn parse_init_bytes(grid: &mut CornerPointGrid, path: &Path, bytes: &[u8]) -> Result<()> {
+    init_from_records(grid, path, Records::new(path, bytes))
+}
+
+/// [`parse_init_bytes`] over the keywords `records` walks.
+pub(crate) fn init_from_records(
+    grid: &mut CornerPointGrid,
+    path: &Path,
+    records: Records<'_>,
+) -> Result<()> {
     let ncells = grid.cell_count();
     let nactive = grid.active_count();
     let numeric = [RecordKind::Inte, RecordKind::Real, RecordKind::Doub];
     let mut head = None;
     let mut props = Vec::new();
     let mut lgr = LgrSkip::default();
-    for view in Records::new(path, bytes) {
+    for view in records {
         let view = view?;
         if lgr.skips(view.name()) {
             continue;
@@ -190,7 +199,7 @@ pub fn parse_init_bytes(grid: &mut CornerPointGrid, path: &Path, bytes: &[u8]) -
 fn restart_steps(
     grid: &CornerPointGrid,
     path: &Path,
-    bytes: &[u8],
+    records: Records<'_>,
     fallback: Option<i32>,
 ) -> Result<Vec<ReportStep>> {
     let nactive = grid.active_count();
@@ -202,7 +211,7 @@ fn restart_steps(
         number: fallback.unwrap_or(steps.len() as i32),
         ..ReportStep::default()
     };
-    for view in Records::new(path, bytes) {
+    for view in records {
         let view = view?;
         if lgr.skips(view.name()) {
             continue;
@@ -266,7 +275,16 @@ pub(crate) fn is_formatted(path: &Path) -> bool {
 /// it in errors and, for a non-unified `Xnnnn` file without SEQNUM, gives the report
 /// number. Nothing in `grid` changes unless the whole file reads.
 pub fn parse_restart_bytes(grid: &mut CornerPointGrid, path: &Path, bytes: &[u8]) -> Result<()> {
-    let steps = restart_steps(grid, path, bytes, xnnnn_number(path))?;
+    restart_from_records(grid, path, Records::new(path, bytes))
+}
+
+/// [`parse_restart_bytes`] over the keywords `records` walks.
+pub(crate) fn restart_from_records(
+    grid: &mut CornerPointGrid,
+    path: &Path,
+    records: Records<'_>,
+) -> Result<()> {
+    let steps = restart_steps(grid, path, records, xnnnn_number(path))?;
     grid.report_steps.extend(steps);
     Ok(())
 }
