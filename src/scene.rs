@@ -7,7 +7,7 @@ use anyhow::{Result, bail};
 use rayon::prelude::*;
 use strata_grid::{
     Columns, CornerPointGrid, Dims, Face, SurfaceMesh, has_faces, layer_surface_in,
-    layer_surfaces_in, open_sides, side_face_corners, side_surfaces_among, surface_face_corners,
+    layer_surfaces_in, open_sides, side_face_corners, side_surfaces_among, visit_row_faces,
 };
 use strata_render::glam::Vec3;
 use strata_render::{Camera, Framing};
@@ -274,9 +274,10 @@ pub fn scene_extent(
             let mut framing = framing.clone();
             let mut boxes: Vec<TileBox> = vec![None; tiles_across];
             let mut triangles = 0;
-            let mut add = |i: usize, corners: [[f32; 3]; 4]| {
+            // Corners already framed (shared with the face before) box their tile alone.
+            let mut add = |i: usize, corners: [[f32; 3]; 4], framed: usize| {
                 let corners = corners.map(Vec3::from);
-                framing.add(corners);
+                framing.add(corners[..4 - framed].iter().copied());
                 let (lo, hi) = boxes[i / tile].get_or_insert((corners[0], corners[0]));
                 for c in corners {
                     (*lo, *hi) = (lo.min(c), hi.max(c));
@@ -285,12 +286,16 @@ pub fn scene_extent(
             let rows = tile_row * tile..((tile_row + 1) * tile).min(ny);
             for j in rows.clone() {
                 for &(k, face) in &layer_faces {
-                    for i in 0..nx {
-                        if let Some(corners) = surface_face_corners(grid, [i, j, k], face, origin) {
+                    visit_row_faces(
+                        grid,
+                        [j, k],
+                        face,
+                        origin,
+                        |i, [sw, se, ne, nw], west_given| {
                             triangles += 2;
-                            add(i, corners);
-                        }
-                    }
+                            add(i, [se, ne, sw, nw], 2 * usize::from(west_given));
+                        },
+                    );
                 }
             }
             if options.sides {
@@ -316,7 +321,7 @@ pub fn scene_extent(
                                 let (corners, kept) =
                                     side_face_corners(grid, [i, j, k], side, origin);
                                 triangles += 2 * usize::from(kept);
-                                add(i, corners);
+                                add(i, corners, 0);
                             }
                         }
                         before = std::mem::replace(&mut here, after);

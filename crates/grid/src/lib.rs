@@ -24,6 +24,7 @@ pub use ndarray;
 pub use surface::{
     Columns, Face, has_faces, layer_surface, layer_surface_in, layer_surfaces, layer_surfaces_in,
     open_sides, side_face_corners, side_surfaces, side_surfaces_among, surface_face_corners,
+    visit_row_faces,
 };
 pub use terrain::{Terrain, TerrainInput, TerrainSynth};
 

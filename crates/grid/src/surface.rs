@@ -171,6 +171,56 @@ pub fn surface_face_corners(
     face_has_area([a, b, c, d]).then_some([a, b, c, d])
 }
 
+/// Visits the faces of row `j` of layer `k`'s `face` surface that
+/// [`surface_face_corners`] gives, in i order, with their corners, computing a corner
+/// shared with the face before once. `visit` also hears whether the face's west
+/// corners (SW, NW) are those of the face it was given just before: a pass over the
+/// corners of a whole model, as a framing, then takes each shared one once.
+pub fn visit_row_faces(
+    grid: &CornerPointGrid,
+    [j, k]: [usize; 2],
+    face: Face,
+    origin: [f64; 3],
+    mut visit: impl FnMut(usize, [[f32; 3]; 4], bool),
+) {
+    let dk = face.dk();
+    let depth = |i: usize, [di, dj]: [usize; 2]| grid.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
+    /// The east corners of the cell before: its i, their depths and places, and
+    /// whether it was visited.
+    struct East {
+        i: usize,
+        depths: [u32; 2],
+        corners: [[f32; 3]; 2],
+        visited: bool,
+    }
+    let mut east: Option<East> = None;
+    for i in 0..grid.dims().nx {
+        if !has_faces(grid, i, j, k) {
+            continue;
+        }
+        let corner = |at: [usize; 2]| face_corner(grid, [i, j, k], face, at, origin);
+        let west_depths = [depth(i, [0, 0]), depth(i, [0, 1])].map(f32::to_bits);
+        let (sw, nw, west_given) = match east {
+            Some(e) if e.i + 1 == i && e.depths == west_depths => {
+                (e.corners[0], e.corners[1], e.visited)
+            }
+            _ => (corner([0, 0]), corner([0, 1]), false),
+        };
+        let (se, ne) = (corner([1, 0]), corner([1, 1]));
+        let corners = [sw, se, ne, nw];
+        let visited = face_has_area(corners);
+        if visited {
+            visit(i, corners, west_given);
+        }
+        east = Some(East {
+            i,
+            depths: [depth(i, [1, 0]), depth(i, [1, 1])].map(f32::to_bits),
+            corners: [se, ne],
+            visited,
+        });
+    }
+}
+
 /// The faces of the cells in `columns` of the layer surface of layer `k`
 /// ([`layer_surface`]), for a layer too large to hold at once or a close-up of it:
 /// the nodes on the rectangle's edges are shared, and take their values, as in the
@@ -1020,6 +1070,29 @@ mod tests {
             }
             assert!(faces.next().is_none());
             assert!(m.triangle_count() > 500);
+            // Row by row, the same faces and corners; a face's west corners are said
+            // to be the one before's exactly where that face is its neighbour and
+            // shares those two vertices.
+            let mut faces = m.cell_faces.iter();
+            let (mut shared, mut before) = (0, None);
+            for j in 0..d.ny {
+                visit_row_faces(&g, [j, 3], face, origin, |i, corners, west_given| {
+                    let f = faces.next().expect("a face for each one visited");
+                    assert_eq!(f.cell, [i as u32, j as u32, 3]);
+                    assert_eq!(
+                        Some(corners),
+                        surface_face_corners(&g, [i, j, 3], face, origin)
+                    );
+                    let [a, b] = f.triangles.map(|t| m.triangles[t as usize]);
+                    let west = [a[0], b[2]];
+                    let same = matches!(before, Some((bi, bj, east)) if bi + 1 == i && bj == j && east == west);
+                    assert_eq!(west_given, same, "cell ({i}, {j})");
+                    shared += usize::from(same);
+                    before = Some((i, j, [a[1], a[2]]));
+                });
+            }
+            assert!(faces.next().is_none());
+            assert!(shared > m.cell_faces.len() / 2 && shared < m.cell_faces.len());
         }
     }
 
