@@ -201,22 +201,24 @@ pub fn build_part(
     columns: &Columns,
 ) -> Result<SurfaceMesh> {
     let property = options.property.as_deref();
-    let layer_faces = |layers: Range<usize>, face: Face, columns: Columns| {
-        if columns.is_empty() {
-            return Ok(SurfaceMesh::with_origin(origin));
-        }
-        layer_surfaces_in(grid, layers, face, property, origin, &columns)
+    let columns = match part {
+        Part::Band { rows, .. } => columns.in_rows(rows.clone()),
+        _ => columns.clone(),
     };
+    if columns.is_empty() {
+        return Ok(SurfaceMesh::with_origin(origin));
+    }
     let mesh = match part {
-        Part::Tops(run) => layer_faces(run.clone(), Face::Top, columns.clone())?,
-        Part::Band { layer, face, rows } => {
-            layer_faces(*layer..*layer + 1, *face, columns.in_rows(rows.clone()))?
+        Part::Tops(run) => {
+            layer_surfaces_in(grid, run.clone(), Face::Top, property, origin, &columns)?
         }
-        Part::Bottom(k) => layer_faces(*k..*k + 1, Face::Bottom, columns.clone())?,
-        Part::Sides(_) if columns.is_empty() => SurfaceMesh::with_origin(origin),
+        Part::Band { layer, face, .. } => {
+            layer_surface_in(grid, *layer, *face, property, origin, &columns)?
+        }
+        Part::Bottom(k) => layer_surface_in(grid, *k, Face::Bottom, property, origin, &columns)?,
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
-            side_surfaces_among(grid, run.clone(), scene, property, origin, columns)?
+            side_surfaces_among(grid, run.clone(), scene, property, origin, &columns)?
         }
     };
     Ok(if options.flat_cells && property.is_some() {
