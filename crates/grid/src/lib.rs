@@ -10,6 +10,7 @@ mod error;
 pub mod grdecl;
 mod grid;
 mod mesh;
+mod pages;
 pub mod surface;
 pub mod synth;
 pub mod terrain;

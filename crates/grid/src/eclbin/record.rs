@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 use memmap2::{Mmap, MmapOptions};
 use rayon::prelude::*;
 
+use crate::pages::Pages;
 use crate::{Error, Result};
 
 /// Item type of a keyword, from the 4 type characters of its header.
@@ -229,7 +230,7 @@ impl EclFile {
     /// the page cache as it is decoded ([`RecordView::to_f32`] and the like).
     pub fn records(&self) -> Records<'_> {
         Records {
-            map: self.map.as_ref(),
+            pages: self.map.as_ref().map(Pages::of).unwrap_or_default(),
             ..Records::new(&self.path, self.bytes())
         }
     }
@@ -257,7 +258,7 @@ pub struct Records<'a> {
     index: usize,
     failed: bool,
     /// The file map `bytes` are, when they are one.
-    map: Option<&'a Mmap>,
+    pages: Pages<'a>,
 }
 
 /// One keyword of a file, checked but not decoded.
@@ -272,7 +273,7 @@ pub struct RecordView<'a> {
     /// The data records, markers included.
     body: &'a [u8],
     /// The file map `body` lies in, when it does.
-    map: Option<&'a Mmap>,
+    pages: Pages<'a>,
 }
 
 /// Reads the 4-byte big-endian length marker at `pos`.
@@ -290,7 +291,7 @@ impl<'a> Records<'a> {
             pos: 0,
             index: 0,
             failed: false,
-            map: None,
+            pages: Pages::default(),
         }
     }
 
@@ -431,7 +432,7 @@ impl<'a> Records<'a> {
             index: self.index,
             offset: offset as u64,
             body: &self.bytes[body_start..pos],
-            map: self.map,
+            pages: self.pages,
         })
     }
 }
@@ -472,27 +473,6 @@ const BLOCKS_PER_TASK: usize = 8;
 
 /// Data records decoded before their file pages are given back (about 64 MiB).
 const BLOCKS_PER_RELEASE: usize = 16 * 1024;
-
-/// Gives the pages of `bytes`, a part of `map` already decoded, back to the page
-/// cache, so that a multi-gigabyte array is not resident twice, as file pages and as
-/// values. Only whole 64 KiB pieces go, which is a whole number of pages on every
-/// common page size; a failure leaves them resident, which is harmless.
-fn give_back(map: &Mmap, bytes: &[u8]) {
-    const PIECE: usize = 64 * 1024;
-    let Some(offset) = (bytes.as_ptr() as usize).checked_sub(map.as_ptr() as usize) else {
-        return;
-    };
-    let start = offset.next_multiple_of(PIECE);
-    let end = (offset + bytes.len()) / PIECE * PIECE;
-    if end > start && end <= map.len() {
-        #[cfg(unix)]
-        // SAFETY: the map is private and read-only, so dropping its pages loses
-        // nothing: a later read of them faults them in from the file again.
-        let _ = unsafe {
-            map.unchecked_advise_range(memmap2::UncheckedAdvice::DontNeed, start, end - start)
-        };
-    }
-}
 
 impl<'a> RecordView<'a> {
     /// The keyword name, trailing blanks removed.
@@ -571,14 +551,12 @@ impl<'a> RecordView<'a> {
                         }
                     }
                 });
-            if let (Some(map), Some((first, _)), Some((last, _))) =
-                (self.map, piece.first(), piece.last())
-            {
+            if let (Some((first, _)), Some((last, _))) = (piece.first(), piece.last()) {
                 let from = first.as_ptr() as usize;
                 let to = last.as_ptr() as usize + last.len();
                 // The piece's blocks are contiguous in the map, markers between them.
                 if let Some(bytes) = self.body_range(from, to) {
-                    give_back(map, bytes);
+                    self.pages.give_back_bytes(bytes);
                 }
             }
         }
