@@ -36,6 +36,7 @@ use std::path::Path;
 
 use memmap2::Mmap;
 
+use crate::pages::Pages;
 use crate::{CornerPointGrid, Error, ReadOptions, Result};
 
 /// Reads a GRDECL or DATA deck.
@@ -44,13 +45,13 @@ pub fn read(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> {
     // SAFETY: the map is only read, and lives until parsing returns. Another process
     // truncating the file meanwhile is the accepted risk of every memory-mapped reader.
     let map = unsafe { Mmap::map(&file) }.map_err(|e| Error::io(path, e))?;
-    parse_bytes(path, &map, options)
+    deck::parse(path, &map, Pages::of(&map), options)
 }
 
 /// Reads a deck held in memory as if it were the file `path`: errors name `path`,
 /// and INCLUDE files are looked for relative to its folder.
 pub fn parse_bytes(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<CornerPointGrid> {
-    deck::parse(path, bytes, options)
+    deck::parse(path, bytes, Pages::default(), options)
 }
 
 /// Adds the per-cell arrays of the property deck `path` (PORO, PERMX, ...; no grid
@@ -62,7 +63,7 @@ pub fn read_properties(grid: &mut CornerPointGrid, path: &Path) -> Result<Vec<St
     // SAFETY: as in `read`.
     let map = unsafe { Mmap::map(&file) }.map_err(|e| Error::io(path, e))?;
     let dims = grid.dims();
-    let arrays = deck::parse_properties(path, &map, dims)?;
+    let arrays = deck::parse_properties(path, &map, Pages::of(&map), dims)?;
     let mut names = Vec::new();
     for (name, values) in arrays {
         if name == "ACTNUM" {

@@ -29,6 +29,7 @@ use super::block;
 use super::cells::{Cells, Region};
 use super::lex::{Kind, Lexer, Token, comment_at, is_keyword, is_sep, keyword, line_at, shown};
 use super::numbers::{self, Num, Spec, find_slash, parse_token};
+use crate::pages::Pages;
 use crate::{Content, CornerPointGrid, Dims, Error, MapAxes, ReadOptions, Result, Units};
 
 /// The least number of values (array elements) a deck may allocate, whatever its
@@ -114,6 +115,8 @@ impl Section {
 struct Src<'a> {
     path: &'a Path,
     bytes: &'a [u8],
+    /// The file map `bytes` are, when they are one.
+    pages: Pages<'a>,
 }
 
 impl Src<'_> {
@@ -164,10 +167,15 @@ pub(super) struct Deck<'o> {
     warnings: Vec<String>,
 }
 
-/// Reads the deck `bytes`, which is the file `path`.
-pub(super) fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<CornerPointGrid> {
+/// Reads the deck `bytes`, which is the file `path` (mapped as `pages` when it is).
+pub(super) fn parse(
+    path: &Path,
+    bytes: &[u8],
+    pages: Pages,
+    options: &ReadOptions,
+) -> Result<CornerPointGrid> {
     let mut deck = Deck::new(path, bytes, options, None);
-    deck.run(path, bytes)?;
+    deck.run(path, bytes, pages)?;
     deck.finish()
 }
 
@@ -176,12 +184,13 @@ pub(super) fn parse(path: &Path, bytes: &[u8], options: &ReadOptions) -> Result<
 pub(super) fn parse_properties(
     path: &Path,
     bytes: &[u8],
+    pages: Pages,
     dims: Dims,
 ) -> Result<BTreeMap<String, Vec<f32>>> {
     let options = ReadOptions::default();
     let mut deck = Deck::new(path, bytes, &options, Some(Cells::new(dims)));
     deck.floor = MIN_BUDGET.max(dims.cell_count().saturating_mul(PROPERTY_ARRAYS));
-    deck.run(path, bytes)?;
+    deck.run(path, bytes, pages)?;
     Ok(deck.cells.map(|c| c.arrays).unwrap_or_default())
 }
 
@@ -254,7 +263,7 @@ impl Deck<'_> {
     }
 
     /// Walks one file.
-    fn run(&mut self, path: &Path, bytes: &[u8]) -> Result<()> {
+    fn run(&mut self, path: &Path, bytes: &[u8], pages: Pages) -> Result<()> {
         let content = Content::of(bytes);
         if content != Content::Text {
             return Err(Error::Content {
@@ -262,7 +271,7 @@ impl Deck<'_> {
                 message: format!("{}, not a text deck", content.describe()),
             });
         }
-        let src = Src { path, bytes };
+        let src = Src { path, bytes, pages };
         let mut lex = Lexer::new(bytes);
         let mut last = String::new();
         while !self.ended {
@@ -452,13 +461,13 @@ impl Deck<'_> {
             _ => return Err(src.err(tok.at, kw, "has no data")),
         }
         let start = lex.pos;
-        let end = find_slash(src.bytes, start).ok_or_else(|| src.truncated(tok, kw))?;
+        let end = find_slash(src.bytes, start, src.pages).ok_or_else(|| src.truncated(tok, kw))?;
         let spec = Spec {
             cap: len.min(self.left()),
             default: None,
             finite: true,
         };
-        let values = numbers::parse(src.bytes, start, end, &spec)
+        let values = numbers::parse(src.bytes, start, end, &spec, src.pages)
             .map_err(|e| src.err(e.offset, kw, e.message))?;
         lex.pos = end + 1;
         if values.len() != len {
@@ -564,7 +573,7 @@ impl Deck<'_> {
         self.bytes_seen = self.bytes_seen.saturating_add(map.len());
         self.open.push(id);
         // A file that is not a text deck is named at this INCLUDE (`run` tells).
-        let result = self.run(&path, &map).map_err(|e| match e {
+        let result = self.run(&path, &map, Pages::of(&map)).map_err(|e| match e {
             Error::Content { message, .. } => {
                 src.err(tok.at, KW, format!("'{}' is {message}", path.display()))
             }
@@ -658,7 +667,7 @@ impl Deck<'_> {
             return skip_records(src, lex, kw, &tok);
         }
         let start = lex.pos;
-        let end = find_slash(b, start).ok_or_else(|| src.truncated(&tok, kw))?;
+        let end = find_slash(b, start, src.pages).ok_or_else(|| src.truncated(&tok, kw))?;
         if self.options.grid_only && !GEOMETRY.contains(&kw) {
             lex.pos = end + 1;
             return skip_records(src, lex, kw, &tok);
@@ -672,7 +681,7 @@ impl Deck<'_> {
             // property value is a value (EQUALS and MULTIPLY can make one too).
             finite: false,
         };
-        let values = match numbers::parse(b, start, end, &spec) {
+        let values = match numbers::parse(b, start, end, &spec, src.pages) {
             Ok(v) => v,
             Err(e) if known => return Err(src.err(e.offset, kw, e.message)),
             Err(_) => {

@@ -16,10 +16,15 @@ use fast_float2::FastFloat;
 use rayon::prelude::*;
 
 use super::lex::{comment_at, is_sep, line_end, shown};
+use crate::pages::Pages;
 
 /// Bytes of text per parallel piece: large enough that rayon's overhead vanishes,
 /// small enough that a wave of pieces stays small beside the result.
 const CHUNK: usize = 1 << 20;
+
+/// Bytes of a mapped deck scanned or parsed before their pages go back
+/// ([`Pages`]).
+const GIVE_BACK_EVERY: usize = 16 << 20;
 
 /// A float type a keyword is read into.
 pub(super) trait Num: FastFloat + Copy + Send + Sync {
@@ -86,10 +91,23 @@ pub(super) struct NumError {
 ///
 /// Quotes are not looked at: a quote in numeric data is an error that the parse
 /// reports at the quote, which comes before any slash inside it.
-pub(super) fn find_slash(b: &[u8], from: usize) -> Option<usize> {
+pub(super) fn find_slash(b: &[u8], from: usize, pages: Pages) -> Option<usize> {
     let mut i = from.min(b.len());
+    let mut given = i;
     loop {
-        let p = i + memchr::memchr2(b'/', b'-', &b[i..])?;
+        // A window at a time: a body of gigabytes is scanned here and parsed next,
+        // so its pages go back as the scan passes them (and come in again, from the
+        // page cache, to be parsed).
+        let window = &b[i..b.len().min(i.saturating_add(GIVE_BACK_EVERY))];
+        let Some(at) = memchr::memchr2(b'/', b'-', window) else {
+            if i + window.len() == b.len() {
+                return None;
+            }
+            i += window.len();
+            given = pages.give_back(given, i);
+            continue;
+        };
+        let p = i + at;
         if b[p] == b'/' {
             return Some(p);
         }
@@ -107,6 +125,7 @@ pub(super) fn parse<T: Num>(
     start: usize,
     end: usize,
     spec: &Spec<T>,
+    pages: Pages,
 ) -> Result<Vec<T>, NumError> {
     let end = end.min(b.len());
     let start = start.min(end);
@@ -114,7 +133,13 @@ pub(super) fn parse<T: Num>(
     let mut out: Vec<T> = Vec::with_capacity(((end - start) / 2 + 1).min(spec.cap));
     let ranges = chunk_ranges(b, start, end);
     let wave = 4 * rayon::current_num_threads().max(1);
+    let mut given = start;
     for group in ranges.chunks(wave) {
+        // What the groups before parsed goes back.
+        let parsed = group.first().map_or(start, |&(s, _)| s);
+        if parsed - given >= GIVE_BACK_EVERY {
+            given = pages.give_back(given, parsed);
+        }
         let room = spec.cap.saturating_sub(out.len());
         let expanded = AtomicUsize::new(0);
         if let [(s, e)] = group {
@@ -368,8 +393,8 @@ mod tests {
 
     fn read(s: &str, sp: &Spec<f32>) -> Result<Vec<f32>, NumError> {
         let b = s.as_bytes();
-        let end = find_slash(b, 0).unwrap_or(b.len());
-        parse(b, 0, end, sp)
+        let end = find_slash(b, 0, Pages::default()).unwrap_or(b.len());
+        parse(b, 0, end, sp, Pages::default())
     }
 
     #[test]
@@ -387,9 +412,10 @@ mod tests {
     #[test]
     fn slash_is_found_outside_comments_only() {
         let b = b"1 2 -- a/b\n -3 4/ 5 /";
-        assert_eq!(find_slash(b, 0), Some(16));
-        assert_eq!(find_slash(b"1 2 -- no end /", 0), None);
-        assert_eq!(find_slash(b"1 2 3", 0), None);
+        let none = Pages::default();
+        assert_eq!(find_slash(b, 0, none), Some(16));
+        assert_eq!(find_slash(b"1 2 -- no end /", 0, none), None);
+        assert_eq!(find_slash(b"1 2 3", 0, none), None);
     }
 
     #[test]

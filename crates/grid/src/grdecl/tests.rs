@@ -705,14 +705,16 @@ fn a_brief_property_deck_fills_a_large_grid() {
         nz: 1,
     };
     let path = Path::new("mem/poro.grdecl");
-    let arrays = super::deck::parse_properties(path, b"PORO\n72000000*0.25 /\n", dims)
-        .expect("a deck for 72 million cells");
+    let arrays =
+        super::deck::parse_properties(path, b"PORO\n72000000*0.25 /\n", Default::default(), dims)
+            .expect("a deck for 72 million cells");
     let poro = &arrays["PORO"];
     assert_eq!(poro.len(), 72_000_000);
     assert!(poro.iter().all(|&v| v == 0.25));
-    let err = super::deck::parse_properties(path, b"PORO\n72000001*0.25 /\n", dims)
-        .expect_err("one value too many")
-        .to_string();
+    let err =
+        super::deck::parse_properties(path, b"PORO\n72000001*0.25 /\n", Default::default(), dims)
+            .expect_err("one value too many")
+            .to_string();
     assert!(
         err.contains("mem/poro.grdecl") && err.contains("PORO"),
         "{err}"
