@@ -486,16 +486,17 @@ pub fn side_surfaces_among(
         sums: Vec::new(),
         with_scalar: values.is_some(),
     };
-    // The cells beside the columns share nodes with their faces and lend them values;
-    // which of those cells have open sides depends on the cells beside them in turn.
+    // With values, the cells beside the columns share nodes with their faces and
+    // lend them values. Which cells have open sides depends on the cells beside them.
+    let lending = usize::from(builder.with_scalar);
     let Columns {
         i: seen_i,
         j: seen_j,
-    } = columns.around(1, grid.dims());
+    } = columns.around(lending, grid.dims());
     let Columns {
         i: tested_i,
         j: tested_j,
-    } = columns.around(2, grid.dims());
+    } = columns.around(lending + 1, grid.dims());
     let width = tested_i.len();
     let open_cells = |k: usize| -> Vec<(Cell, [bool; 4])> {
         // Which cells have faces, found in parallel: most cells have no open side,
