@@ -4,22 +4,13 @@
 
 use strata_grid::eclbin::{EclFile, RecordWriter};
 
+mod common;
+
 /// Resident file-backed memory of this process, in bytes: Linux's RssFile, and
 /// RssShmem for a file on tmpfs.
 #[cfg(target_os = "linux")]
 fn resident_file_bytes() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    let kb = |field: &str| -> u64 {
-        let line = status
-            .lines()
-            .find(|l| l.starts_with(field))
-            .unwrap_or_else(|| panic!("a {field} line"));
-        line.split_whitespace()
-            .nth(1)
-            .and_then(|n| n.parse().ok())
-            .expect("a number of kB")
-    };
-    (kb("RssFile:") + kb("RssShmem:")) * 1024
+    common::status_bytes("RssFile") + common::status_bytes("RssShmem")
 }
 
 #[cfg(target_os = "linux")]

@@ -4,21 +4,7 @@
 
 use std::io::Write;
 
-/// The peak resident memory of this process so far, in bytes (Linux's VmHWM).
-#[cfg(target_os = "linux")]
-fn peak_resident_bytes() -> u64 {
-    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
-    let line = status
-        .lines()
-        .find(|l| l.starts_with("VmHWM:"))
-        .expect("a VmHWM line");
-    let kb: u64 = line
-        .split_whitespace()
-        .nth(1)
-        .and_then(|n| n.parse().ok())
-        .expect("a number of kB");
-    kb * 1024
-}
+mod common;
 
 /// The depth written for ZCORN value `n` of a grid of `columns` columns: whole
 /// metres and ten-thousandths.
@@ -58,10 +44,10 @@ fn a_deck_is_not_resident_beside_its_values() {
     let text = std::fs::metadata(&path).expect("the deck's size").len();
     let values = 4 * corners as u64;
 
-    let before = peak_resident_bytes();
+    let before = common::status_bytes("VmHWM");
     let grid = strata_grid::grdecl::read(&path, &strata_grid::ReadOptions::default())
         .expect("the deck reads");
-    let grown = peak_resident_bytes().saturating_sub(before);
+    let grown = common::status_bytes("VmHWM").saturating_sub(before);
     assert_eq!(grid.dims().nz, nz);
     // Corner 0 of cell (3, 4, 5): plane 10, row 8, column 6 of ZCORN.
     let (metres, ten_thousandths) = depth_of(10 * 4 * nx * ny + 8 * 2 * nx + 6, nx * ny);
