@@ -11,6 +11,9 @@ pub enum Error {
         "no GPU adapter found ({0}); on a machine without a GPU install Mesa's llvmpipe (OpenGL) or lavapipe (mesa-vulkan-drivers)"
     )]
     NoAdapter(String),
+    /// Adapters were found, but none can run strata's shaders; says why for each.
+    #[error("no adapter found that strata can draw with: {0}")]
+    Unsuitable(String),
     /// The adapter refused to create a device with what strata needs.
     #[error("the adapter {adapter} refused a device: {message}")]
     Device { adapter: String, message: String },

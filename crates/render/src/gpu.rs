@@ -1,6 +1,7 @@
 //! Device setup: headless by default. The adapter is chosen from those of the
 //! backends `WGPU_BACKEND` allows (all by default), by `WGPU_ADAPTER_NAME` when set,
-//! else the most capable kind (discrete, integrated, virtual, then CPU).
+//! else the most capable kind (discrete, integrated, virtual, then CPU), leaving out
+//! OpenGL contexts too old for strata's shaders.
 
 use crate::{Error, Result};
 
@@ -29,6 +30,42 @@ fn kind_rank(t: wgpu::DeviceType) -> u8 {
     }
 }
 
+/// Why strata cannot draw through an OpenGL adapter whose `GL_VERSION` is
+/// `driver_info`, or `None` when it can (and for every other backend).
+///
+/// Where EGL offers desktop OpenGL, wgpu asks for a 3.3 core context. Mesa answers
+/// with its newest version (4.5 on llvmpipe); NVIDIA's driver answers with 3.3, for
+/// which naga writes GLSL 3.30: it has no storage buffers, so the pulled wireframes
+/// and the isoline pass cannot be built, and on an NVIDIA H200 the surfaces drew
+/// nothing at all. strata's shaders need OpenGL 4.3 or OpenGL ES 3.1.
+fn opengl_shortfall(backend: wgpu::Backend, driver_info: &str) -> Option<String> {
+    if backend != wgpu::Backend::Gl {
+        return None;
+    }
+    let (es, version) = match driver_info.strip_prefix("OpenGL ES ") {
+        Some(rest) => (true, rest),
+        None => (false, driver_info),
+    };
+    let mut numbers = version
+        .split(|c: char| !c.is_ascii_digit())
+        .map(|n| n.parse::<u32>().ok());
+    let (Some(Some(major)), Some(Some(minor))) = (numbers.next(), numbers.next()) else {
+        return None;
+    };
+    let (api, needed) = if es {
+        ("OpenGL ES", (3, 1))
+    } else {
+        ("OpenGL", (4, 3))
+    };
+    ((major, minor) < needed).then(|| {
+        format!(
+            "opens {api} {major}.{minor}, and strata's shaders need {api} {}.{} \
+             (storage buffers); use the device's Vulkan adapter (WGPU_BACKEND=vulkan)",
+            needed.0, needed.1
+        )
+    })
+}
+
 impl Gpu {
     /// Opens the best adapter the environment allows.
     pub fn new() -> Result<Self> {
@@ -47,6 +84,15 @@ impl Gpu {
         if let Some(name) = &wanted_name {
             adapters.retain(|a| a.get_info().name.to_lowercase().contains(name));
         }
+        let mut unsuitable = Vec::new();
+        adapters.retain(|a| {
+            let info = a.get_info();
+            let shortfall = opengl_shortfall(info.backend, &info.driver_info);
+            if let Some(why) = &shortfall {
+                unsuitable.push(format!("{} ({:?}) {why}", info.name, info.backend));
+            }
+            shortfall.is_none()
+        });
         adapters.sort_by_key(|a| {
             let info = a.get_info();
             // Prefer Vulkan over GL for the same kind: it has the fuller feature set.
@@ -55,6 +101,9 @@ impl Gpu {
                 info.backend != wgpu::Backend::Vulkan,
             )
         });
+        if adapters.is_empty() && !unsuitable.is_empty() {
+            return Err(Error::Unsuitable(unsuitable.join("; ")));
+        }
         let adapter = adapters.into_iter().next().ok_or_else(|| {
             Error::NoAdapter(match &wanted_name {
                 Some(n) => format!("backends {backends:?}, name containing {n:?}"),
@@ -115,5 +164,42 @@ impl Gpu {
         rx.recv()
             .map_err(|e| Error::Gpu(e.to_string()))?
             .map_err(|e| Error::Gpu(e.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::opengl_shortfall;
+    use wgpu::Backend;
+
+    #[test]
+    fn opengl_below_4_3_or_es_3_1_is_refused_with_its_version() {
+        // GL_VERSION strings as wgpu reports them: NVIDIA's 3.3 context (H200,
+        // driver 580), llvmpipe's desktop and ES contexts.
+        let nvidia = opengl_shortfall(Backend::Gl, "3.3.0 NVIDIA 580.159.04");
+        assert!(
+            nvidia
+                .as_deref()
+                .is_some_and(|why| why.contains("OpenGL 3.3") && why.contains("4.3")),
+            "{nvidia:?}"
+        );
+        assert_eq!(
+            opengl_shortfall(Backend::Gl, "4.5 (Core Profile) Mesa 22.3.6"),
+            None
+        );
+        assert_eq!(opengl_shortfall(Backend::Gl, "4.3.0 NVIDIA 580"), None);
+        assert_eq!(
+            opengl_shortfall(Backend::Gl, "OpenGL ES 3.2 Mesa 22.3.6"),
+            None
+        );
+        let es30 = opengl_shortfall(Backend::Gl, "OpenGL ES 3.0 Mesa");
+        assert!(
+            es30.as_deref()
+                .is_some_and(|why| why.contains("OpenGL ES 3.0") && why.contains("3.1")),
+            "{es30:?}"
+        );
+        // Other backends, and versions that cannot be read, are left to wgpu.
+        assert_eq!(opengl_shortfall(Backend::Vulkan, "3.3.0 NVIDIA"), None);
+        assert_eq!(opengl_shortfall(Backend::Gl, "unknown"), None);
     }
 }
