@@ -92,14 +92,25 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     let with_mask = surface_difference(&original, &masked);
     let without = surface_difference(&original, &unmasked);
     let lines = |f: &Frame| f.count_above(0.5);
+    // The lines' ink: their coverage summed over the frame. The top view puts many
+    // edges half a pixel from pixel centres, where coverage sits at 0.5, so a count
+    // of pixels above 0.5 swings with rounding: 8782 -> 9080 on an NVIDIA H200 for
+    // the same ink within 0.05 %.
+    let ink = |f: &Frame| {
+        let (n, mean) = f.surface_mean();
+        n as f64 * mean
+    };
     eprintln!(
         "{} -> {} triangles on {}: {surface} surface pixels; differing with the mask \
-         {with_mask}, without {without}; line pixels {} original, {} masked",
+         {with_mask}, without {without}; line pixels {} original, {} masked; ink {:.1} \
+         original, {:.1} masked",
         mesh.triangle_count(),
         out.mesh.triangle_count(),
         backend(&r),
         lines(&original),
-        lines(&masked)
+        lines(&masked),
+        ink(&original),
+        ink(&masked)
     );
     assert!(surface > 20_000, "the staircase fills the frame");
     // The decimated surface grew over the notches; the mask takes them away again,
@@ -115,12 +126,11 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     // Without the wire, the same mask and no line.
     assert_eq!(surface_difference(&masked, &bare), 0);
     assert_eq!(lines(&bare), 0, "grid lines without the wire");
-    let line_change = lines(&original).abs_diff(lines(&masked));
     assert!(
-        line_change * 50 < lines(&original),
-        "line pixels {} -> {}",
-        lines(&original),
-        lines(&masked)
+        (ink(&original) - ink(&masked)).abs() * 50.0 < ink(&original),
+        "line ink {:.1} -> {:.1}",
+        ink(&original),
+        ink(&masked)
     );
 }
 
