@@ -627,10 +627,17 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
              {without} without"
         );
         assert!(without > model / 10, "the sides show without --sides");
-        assert!(
-            with <= model / 200,
-            "{with} pixels differ from render --sides"
-        );
+        // Without isolines the two agree to the pixel on lavapipe and on an NVIDIA
+        // H200. The view's isolines come from the tiles' leaves and render's from its
+        // mesh: where they crowd on fault walls seen edge-on, their anti-aliased edges
+        // differ (180 pixels on lavapipe with analytic coverage, 313 on the H200 with
+        // the texture), far below the thousands that missing sides or isolines change.
+        let allowed = if iso.is_empty() {
+            model / 200
+        } else {
+            model / 100
+        };
+        assert!(with <= allowed, "{with} pixels differ from render --sides");
     }
     // A layer range: those layers' sides only, as `render --layers` draws them.
     let range = ["--sides", "--layers", "3..5"];
