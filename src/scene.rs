@@ -253,24 +253,29 @@ const TILES_ACROSS: usize = 64;
 /// The extent of the scene `options` asks for ([`SceneExtent`]), for the view
 /// `framing` was made for (it holds no point yet), from the corners of its faces in
 /// one parallel pass over rows of tiles, building no mesh: those corners are exactly
-/// the vertices of its surfaces.
+/// the vertices of its surfaces. `progress`, when given, is set to count the rows.
 pub fn scene_extent(
     grid: &CornerPointGrid,
     options: &SceneOptions,
     origin: [f64; 3],
     framing: Framing,
+    progress: Option<&indicatif::ProgressBar>,
 ) -> Result<SceneExtent> {
     let layers = drawn_layers(grid, options)?;
     let Dims { nx, ny, .. } = grid.dims();
     let tile = nx.max(ny).div_ceil(TILES_ACROSS).max(1);
     let tiles_across = nx.div_ceil(tile);
+    let tile_rows = ny.div_ceil(tile);
+    if let Some(bar) = progress {
+        bar.set_length(tile_rows as u64);
+    }
     let layer_faces: Vec<(usize, Face)> = layers
         .clone()
         .map(|k| (k, Face::Top))
         .chain([(layers.end - 1, Face::Bottom)])
         .collect();
     // A row of tiles at a time, in parallel: each its own framing, boxes and count.
-    let rows: Vec<(Framing, Vec<TileBox>, usize)> = (0..ny.div_ceil(tile))
+    let rows: Vec<(Framing, Vec<TileBox>, usize)> = (0..tile_rows)
         .into_par_iter()
         .map(|tile_row| {
             let mut framing = framing.clone();
@@ -329,6 +334,9 @@ pub fn scene_extent(
                         before = std::mem::replace(&mut here, after);
                     }
                 }
+            }
+            if let Some(bar) = progress {
+                bar.inc(1);
             }
             (framing, boxes, triangles)
         })
@@ -579,8 +587,11 @@ mod tests {
             assert!(whole.triangle_count() > 10_000);
             let mut of_mesh = framing.clone();
             of_mesh.add(whole.positions.iter().map(|&p| Vec3::from(p)));
-            let extent = scene_extent(&grid, &options, origin, framing.clone());
+            let bar = indicatif::ProgressBar::hidden();
+            let extent = scene_extent(&grid, &options, origin, framing.clone(), Some(&bar));
             let extent = extent.expect("the extent");
+            // The bar counted every row of tiles.
+            assert!(bar.length().is_some_and(|n| n > 1 && bar.position() == n));
             assert_eq!(extent.triangles, whole.triangle_count());
             assert_eq!(extent.framing.camera(1.0), of_mesh.camera(1.0));
             assert_eq!(extent.framing.bounds(), of_mesh.bounds());
@@ -637,7 +648,7 @@ mod tests {
         let origin = grid.display_origin();
         let parts = parts(&grid, &options, 900).expect("the parts");
         let framing = Framing::new(1.0, 1.5, (30.0, 60.0));
-        let extent = scene_extent(&grid, &options, origin, framing).expect("the extent");
+        let extent = scene_extent(&grid, &options, origin, framing, None).expect("the extent");
         let centre = column_top(&grid, None, [30, 20], origin).expect("a face");
         let camera = extent.framing.camera(0.1).centred_on(Vec3::from(centre));
         let columns = extent.columns_in_view(&camera, 1.5);

@@ -343,18 +343,21 @@ fn draw_in_parts(
     let (az, el, dist) = args.frame.view;
     let (width, height) = args.frame.size;
     let aspect = width as f32 / height as f32;
-    // The framing pass, then a part at a time: a bar on a terminal says where they are.
-    let bar = indicatif::ProgressBar::new(1 + count as u64);
+    // The framing pass a row of tiles at a time, then a part at a time: a bar on a
+    // terminal says where they are.
+    let bar = indicatif::ProgressBar::new(0);
     bar.set_style(
         indicatif::ProgressStyle::with_template(
             "{elapsed_precise} [{bar:40}] {msg} {pos}/{len} (eta {eta})",
         )
         .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    bar.set_message("framing, then drawing: parts");
+    bar.set_message("framing: rows of tiles");
     let framing = Framing::new(args.frame.zscale, aspect, (az, el));
-    let extent = scene::scene_extent(grid, options, origin, framing)?;
-    bar.inc(1);
+    let extent = scene::scene_extent(grid, options, origin, framing, Some(&bar))?;
+    bar.reset();
+    bar.set_length(count as u64);
+    bar.set_message("drawing: parts");
     let framing = &extent.framing;
     let Some(bounds) = framing.bounds() else {
         return Err(scene::nothing_to_draw(grid, options));
