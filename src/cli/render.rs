@@ -345,19 +345,20 @@ fn draw_in_parts(
     let aspect = width as f32 / height as f32;
     // The framing pass a row of tiles at a time, then a part at a time: a bar on a
     // terminal says where they are.
-    let bar = indicatif::ProgressBar::new(0);
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{elapsed_precise} [{bar:40}] {msg} {pos}/{len} (eta {eta})",
-        )
-        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar.set_message("framing: rows of tiles");
+    let bar_style = indicatif::ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:40}] {msg} {pos}/{len} (eta {eta})",
+    )
+    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    let bar = |length: usize, message: &'static str| {
+        indicatif::ProgressBar::new(length as u64)
+            .with_style(bar_style.clone())
+            .with_message(message)
+    };
     let framing = Framing::new(args.frame.zscale, aspect, (az, el));
-    let extent = scene::scene_extent(grid, options, origin, framing, Some(&bar))?;
-    bar.reset();
-    bar.set_length(count as u64);
-    bar.set_message("drawing: parts");
+    let framing_bar = bar(0, "framing: rows of tiles");
+    let extent = scene::scene_extent(grid, options, origin, framing, Some(&framing_bar))?;
+    framing_bar.finish_and_clear();
+    let bar = bar(count, "drawing: parts");
     let framing = &extent.framing;
     let Some(bounds) = framing.bounds() else {
         return Err(scene::nothing_to_draw(grid, options));
