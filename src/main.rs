@@ -96,6 +96,7 @@ enum BenchCommand {
 
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
+    keep_freed_memory();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Info(args) => cli::info::run(&args),
@@ -132,6 +133,24 @@ fn quiet_on_closed_pipe() {
     // a valid disposition for SIGPIPE.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// Keeps freed memory in the process for the next allocation of about its size.
+///
+/// glibc serves blocks above its mmap threshold (32 MiB at most when it adapts it)
+/// with fresh maps and unmaps them when freed, so every part of a model drawn in
+/// parts, a layer built for a hierarchy and so on faults in newly zeroed pages. With
+/// large blocks taken from the heap and the heap never trimmed, the whole view of a
+/// 1000 x 1000 x 100 model went from 42.3 to 35.7 s (system time 12.8 -> 6.6 s) at
+/// 4.27 GB resident instead of 4.06.
+fn keep_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: called in `main` before any other thread exists; mallopt only sets the
+    // allocator's thresholds, and a refused value leaves glibc's default.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, i32::MAX);
+        libc::mallopt(libc::M_TRIM_THRESHOLD, i32::MAX);
     }
 }
 
