@@ -139,7 +139,10 @@ pub fn build_layer(
 
     // Leaves: triangles by the cell under their texture-space centroid.
     let leaf_tiles = tiles_at(0);
-    let tile_of = |tri: &[u32; 3]| -> Option<usize> {
+    // The leaf tile of each triangle, as u32 (NONE when outside the grid): this list
+    // has an entry per triangle of the layer, which an `Option<usize>` would make
+    // 16 bytes.
+    let tile_of = |tri: &[u32; 3]| -> u32 {
         let (mut u, mut v) = (0f64, 0f64);
         for &c in tri {
             let tc = layer.texcoords[c as usize];
@@ -148,20 +151,24 @@ pub fn build_layer(
         }
         let (i, j) = (((u - 1.0) / 2.0).floor(), ((v - 1.0) / 2.0).floor());
         let (tx, ty) = ((i / f64::from(t)).floor(), (j / f64::from(t)).floor());
-        (tx >= 0.0 && ty >= 0.0 && tx < f64::from(leaf_tiles[0]) && ty < f64::from(leaf_tiles[1]))
-            .then(|| ty as usize * leaf_tiles[0] as usize + tx as usize)
+        if tx >= 0.0 && ty >= 0.0 && tx < f64::from(leaf_tiles[0]) && ty < f64::from(leaf_tiles[1])
+        {
+            ty as u32 * leaf_tiles[0] + tx as u32
+        } else {
+            NONE
+        }
     };
     let tile_count = (leaf_tiles[0] * leaf_tiles[1]) as usize;
     let mut start = vec![0u32; tile_count + 1];
-    let assigned: Vec<Option<usize>> = layer.triangles.par_iter().map(tile_of).collect();
-    if assigned.iter().any(Option::is_none) {
+    let assigned: Vec<u32> = layer.triangles.par_iter().map(tile_of).collect();
+    if assigned.contains(&NONE) {
         return Err(Error::Mesh(format!(
             "a triangle's texture coordinates are outside the {} x {} cells of the grid",
             dims[0], dims[1]
         )));
     }
-    for &a in assigned.iter().flatten() {
-        start[a + 1] += 1;
+    for &a in &assigned {
+        start[a as usize + 1] += 1;
     }
     for i in 0..tile_count {
         start[i + 1] += start[i];
@@ -169,11 +176,10 @@ pub fn build_layer(
     let mut fill = start.clone();
     let mut by_tile = vec![0u32; layer.triangle_count()];
     for (tri, &a) in assigned.iter().enumerate() {
-        if let Some(a) = a {
-            by_tile[fill[a] as usize] = tri as u32;
-            fill[a] += 1;
-        }
+        by_tile[fill[a as usize] as usize] = tri as u32;
+        fill[a as usize] += 1;
     }
+    drop(assigned);
     let span_cells = |level: u32, tile: [u32; 2]| -> [u32; 4] {
         let span = t.saturating_mul(1 << level);
         [
