@@ -19,7 +19,7 @@ use strata::scene::{colour_range, corner_field, faces_in_view, first_face_centre
 
 use super::ReadArgs;
 use super::style::{
-    FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso_spacing,
+    FrameArgs, IsoSpacing, LayerArgs, StyleArgs, decimated_wire, parse_iso_spacing, parse_zscale,
 };
 
 #[derive(Subcommand)]
@@ -48,7 +48,7 @@ pub struct BuildArgs {
     #[arg(long, default_value_t = 64)]
     tile: u32,
     /// Vertical exaggeration the hierarchy will be viewed with (weighs vertical error).
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, value_parser = parse_zscale)]
     zscale: f32,
     #[command(flatten)]
     read: ReadArgs,
@@ -64,8 +64,9 @@ pub struct BuildArgs {
 pub struct ViewArgs {
     /// Hierarchy file written by `strata lod build`.
     file: PathBuf,
-    /// Largest projected error of a chosen node, in pixels.
-    #[arg(long, default_value_t = 1.0)]
+    /// Largest projected error of a chosen node, in pixels (0: full resolution; inf:
+    /// the coarsest level).
+    #[arg(long, default_value_t = 1.0, value_parser = parse_pixels)]
     pixels: f32,
     #[command(flatten)]
     drawn: LayerArgs,
@@ -655,6 +656,35 @@ pub fn parse_percent(s: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("{s:?} is not a percentage in (0, 100]"))
 }
 
+/// `--pixels PX`: a projected error of at least 0 pixels. NaN would choose nothing
+/// coarser than the leaves (no error compares below it) without saying so.
+fn parse_pixels(s: &str) -> Result<f32, String> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|p| *p >= 0.0)
+        .ok_or_else(|| format!("{s:?} is not a number of pixels of at least 0"))
+}
+
 fn threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pixel_errors_and_percentages_are_checked() {
+        assert_eq!(parse_pixels("0.5"), Ok(0.5));
+        assert_eq!(parse_pixels("0"), Ok(0.0));
+        assert_eq!(parse_pixels("inf"), Ok(f32::INFINITY));
+        for bad in ["-1", "NaN", "nan", "", "1px"] {
+            assert!(parse_pixels(bad).is_err(), "{bad}");
+        }
+        assert_eq!(parse_percent("10%"), Ok(10.0));
+        for bad in ["0", "100.5", "nan", "-3"] {
+            assert!(parse_percent(bad).is_err(), "{bad}");
+        }
+    }
 }
