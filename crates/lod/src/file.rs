@@ -42,7 +42,8 @@ use strata_grid::{
 };
 
 use crate::cover::cell_corners;
-use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result, build_layer};
+use crate::hierarchy::{build_layer_counted, layer_work};
+use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result};
 
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
@@ -477,6 +478,33 @@ pub fn build_file(
     path: &Path,
     options: &BuildOptions,
 ) -> Result<BuildReport> {
+    let bar = if options.progress {
+        let bar = indicatif::ProgressBar::new(0);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {percent:>3} %, {msg} (eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let report = build_file_counted(grid, property, path, options, &bar);
+    bar.finish_and_clear();
+    report
+}
+
+/// [`build_file`], counting on `bar` the tiles built, weighed by their work
+/// ([`layer_work`]), not the layers: a model of a few large layers builds them all at
+/// once, and a bar of layers would stand still for minutes.
+fn build_file_counted(
+    grid: &CornerPointGrid,
+    property: Option<&str>,
+    path: &Path,
+    options: &BuildOptions,
+    bar: &indicatif::ProgressBar,
+) -> Result<BuildReport> {
     let start = Instant::now();
     let d = grid.dims();
     let dims = [
@@ -488,24 +516,16 @@ pub fn build_file(
         .map(|k| (k, Face::Top))
         .chain((d.nz > 0).then_some((d.nz - 1, Face::Bottom)))
         .collect();
-    let bar = if options.progress {
-        let bar = indicatif::ProgressBar::new(surfaces.len() as u64);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {pos}/{len} layers, {msg} (eta {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    bar.set_length(surfaces.len() as u64 * layer_work(dims, options.tile_cells));
+    bar.set_message(format!("0/{} layer surfaces", surfaces.len()));
+    let built = |units: u64| bar.inc(units);
     // The side faces of all layers at once, so that a vertex between two layers
     // averages the property over both, as `strata render --sides` draws it.
     let sides = sides_by_layer(&side_surfaces(grid, 0..d.nz, property, origin)?, d.nz);
     let batch = batch_size(grid, options.memory)?;
     let mut writer = Writer::create(path)?;
     let mut report = BuildReport::default();
+    let mut written = 0;
     for chunk in surfaces.chunks(batch) {
         let built: Vec<BuiltSurface> = chunk
             .par_iter()
@@ -514,7 +534,7 @@ pub fn build_file(
                 let cells = property.map(|_| LayerCells::of(&mesh, dims));
                 // The tree needs no cell faces: 24 bytes a cell less while it is built.
                 mesh.cell_faces = Vec::new();
-                let tree = build_layer(&mesh, dims, options)?;
+                let tree = build_layer_counted(&mesh, dims, options, &built)?;
                 Ok(BuiltSurface {
                     input_triangles: mesh.triangle_count(),
                     k,
@@ -542,9 +562,10 @@ pub fn build_file(
             report.layers += usize::from(!tree.nodes.is_empty());
             report.side_triangles += sides.map_or(0, SurfaceMesh::triangle_count);
             writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides)?;
-            bar.inc(1);
+            written += 1;
             bar.set_message(format!(
-                "{:.1} M triangles in, {:.1} M stored",
+                "{written}/{} layer surfaces, {:.1} M triangles in, {:.1} M stored",
+                surfaces.len(),
                 report.input_triangles as f64 / 1e6,
                 report.stored_triangles as f64 / 1e6
             ));
@@ -552,7 +573,6 @@ pub fn build_file(
     }
     let scalar_range = property.map(|name| cell_range(grid, name));
     report.bytes = writer.finish(origin, dims, options.tile_cells, scalar_range)?;
-    bar.finish_and_clear();
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
 }
@@ -1302,7 +1322,39 @@ impl LodFile {
 
 #[cfg(test)]
 mod tests {
-    use super::copy_bits;
+    use super::*;
+    use strata_grid::synth::{SynthParams, generate};
+
+    #[test]
+    fn the_build_counts_every_tile_of_every_layer_surface_once() {
+        // 10 x 7 cells in tiles of 4: 3 x 2 leaves, 2 x 1 parents, then the root.
+        assert_eq!(layer_work([10, 7], 4), 6 + 20 * (2 + 1));
+        let mut grid = generate(&SynthParams {
+            nx: 30,
+            ny: 20,
+            nz: 3,
+            faults: 2,
+            seed: 3,
+        })
+        .expect("a generated grid");
+        // An empty layer still counts all its tiles, so the bar ends full.
+        grid.actnum
+            .slice_mut(strata_grid::ndarray::s![1, .., ..])
+            .fill(false);
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let options = BuildOptions {
+            tile_cells: 4,
+            ..BuildOptions::default()
+        };
+        let bar = indicatif::ProgressBar::hidden();
+        let path = dir.path().join("counted.lod");
+        let report =
+            build_file_counted(&grid, None, &path, &options, &bar).expect("the hierarchy is built");
+        assert_eq!(report.layers, 3, "the empty layer has no surface");
+        let whole = 4 * layer_work([30, 20], 4);
+        assert_eq!(bar.length(), Some(whole));
+        assert_eq!(bar.position(), whole);
+    }
 
     #[test]
     fn bits_are_copied_at_any_offsets_as_one_by_one() {

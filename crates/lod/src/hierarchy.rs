@@ -113,6 +113,40 @@ pub struct LayerTree {
     pub nodes: Vec<Node>,
 }
 
+/// Tiles across and along a grid of `dims` cells at `level` of a quadtree whose leaves
+/// are `tile_cells` wide.
+fn tiles_at(dims: [u32; 2], tile_cells: u32, level: u32) -> [u32; 2] {
+    let span = tile_cells.saturating_mul(1 << level.min(31));
+    [dims[0].div_ceil(span).max(1), dims[1].div_ceil(span).max(1)]
+}
+
+/// The level of the root of such a quadtree.
+fn root_level(dims: [u32; 2], tile_cells: u32) -> u32 {
+    let mut level = 0;
+    while tiles_at(dims, tile_cells, level) != [1, 1] {
+        level += 1;
+    }
+    level
+}
+
+/// Work of a parent node for a progress count, in leaves: a parent simplifies its
+/// children's triangles (about four leaves' worth at every level), a leaf only orders
+/// its own. Measured on a generated 2000 x 2000 layer (1024 leaf tiles, 341 parents):
+/// 1.5 s for the leaves, about 10 s for the parents.
+const PARENT_WORK: u64 = 20;
+
+/// Units of work of building the quadtree of a layer of a grid of `dims` cells (as
+/// [`build_layer_counted`] counts them): a unit a leaf tile, [`PARENT_WORK`] a parent
+/// tile, empty tiles included.
+pub(crate) fn layer_work(dims: [u32; 2], tile_cells: u32) -> u64 {
+    let tiles = |level: u32| {
+        let [x, y] = tiles_at(dims, tile_cells, level);
+        u64::from(x) * u64::from(y)
+    };
+    let parents: u64 = (1..=root_level(dims, tile_cells)).map(tiles).sum();
+    tiles(0) + PARENT_WORK * parents
+}
+
 /// Builds the quadtree of `layer`, a layer surface of a grid of `dims` = `[nx, ny]`
 /// cells (texture coordinates `(2i + 1, 2j + 1)` at node `(i, j)`). Nodes of one
 /// level are built in parallel.
@@ -121,24 +155,30 @@ pub fn build_layer(
     dims: [u32; 2],
     options: &BuildOptions,
 ) -> Result<LayerTree> {
+    build_layer_counted(layer, dims, options, &|_| {})
+}
+
+/// [`build_layer`], telling `built` the units of [`layer_work`] as each tile is built
+/// (from the threads that build them), so that a progress bar moves within a layer
+/// too: a single layer of tens of millions of cells takes minutes.
+pub(crate) fn build_layer_counted(
+    layer: &SurfaceMesh,
+    dims: [u32; 2],
+    options: &BuildOptions,
+    built: &(dyn Fn(u64) + Sync),
+) -> Result<LayerTree> {
     options.check()?;
+    let t = options.tile_cells;
     if layer.is_empty() {
+        built(layer_work(dims, t));
         return Ok(LayerTree::default());
     }
     let reference = Reference::new(layer)?;
     let labels = components(layer);
-    let t = options.tile_cells;
-    let tiles_at = |level: u32| -> [u32; 2] {
-        let span = t.saturating_mul(1 << level.min(31));
-        [dims[0].div_ceil(span).max(1), dims[1].div_ceil(span).max(1)]
-    };
-    let mut levels = 0;
-    while tiles_at(levels) != [1, 1] {
-        levels += 1;
-    }
+    let levels = root_level(dims, t);
 
     // Leaves: triangles by the cell under their texture-space centroid.
-    let leaf_tiles = tiles_at(0);
+    let leaf_tiles = tiles_at(dims, t, 0);
     // The leaf tile of each triangle, as u32 (NONE when outside the grid): this list
     // has an entry per triangle of the layer, which an `Option<usize>` would make
     // 16 bytes.
@@ -193,11 +233,10 @@ pub fn build_layer(
         .into_par_iter()
         .map(|id| {
             let tris = &by_tile[start[id] as usize..start[id + 1] as usize];
-            if tris.is_empty() {
-                return None;
-            }
             let tile = [id as u32 % leaf_tiles[0], id as u32 / leaf_tiles[0]];
-            Some(leaf(layer, tris, tile, span_cells(0, tile)))
+            let node = (!tris.is_empty()).then(|| leaf(layer, tris, tile, span_cells(0, tile)));
+            built(1);
+            node
         })
         .collect();
 
@@ -205,8 +244,8 @@ pub fn build_layer(
     // first), then ordered breadth first at the end.
     let mut done: Vec<Vec<Option<Node>>> = Vec::new();
     for level in 1..=levels {
-        let below = tiles_at(level - 1);
-        let here = tiles_at(level);
+        let below = tiles_at(dims, t, level - 1);
+        let here = tiles_at(dims, t, level);
         let parents: Vec<Option<Node>> = (0..(here[0] * here[1]) as usize)
             .into_par_iter()
             .map(|id| {
@@ -221,14 +260,16 @@ pub fn build_layer(
                         current[ci].as_ref().map(|n| (ci, n))
                     })
                     .collect();
-                if children.is_empty() {
-                    return Ok(None);
-                }
-                let cells = span_cells(level, tile);
-                parent(
-                    &reference, &labels, &children, level, tile, cells, dims, options,
-                )
-                .map(Some)
+                let node = if children.is_empty() {
+                    None
+                } else {
+                    let cells = span_cells(level, tile);
+                    Some(parent(
+                        &reference, &labels, &children, level, tile, cells, dims, options,
+                    )?)
+                };
+                built(PARENT_WORK);
+                Ok(node)
             })
             .collect::<Result<_>>()?;
         done.push(std::mem::replace(&mut current, parents));
