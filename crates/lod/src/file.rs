@@ -42,8 +42,8 @@ use strata_grid::{
 };
 
 use crate::cover::cell_corners;
-use crate::hierarchy::{build_layer_counted, layer_work};
-use crate::{BuildOptions, CellCover, CoverPiece, Error, LayerTree, Result};
+use crate::hierarchy::{Node, build_layer_with, layer_work};
+use crate::{BuildOptions, CellCover, CoverPiece, Error, Result};
 
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
@@ -253,6 +253,55 @@ fn stored_vertices(mesh: &SurfaceMesh) -> Vec<Vertex> {
         .collect()
 }
 
+/// A node as the file stores it, made as soon as its parent is built: its record (but
+/// for where it goes in the file) and its data, vertices then indices padded to 8
+/// bytes. A large layer's tree is held in this form while the rest of it is built:
+/// 24 bytes a vertex and 2 an index, where a built node holds about 52 a vertex.
+struct StoredNode {
+    record: NodeRecord,
+    data: Vec<u8>,
+}
+
+impl StoredNode {
+    fn of(node: Node) -> Self {
+        let mesh = &node.mesh;
+        let mut data: Vec<u8> = bytemuck::cast_slice(&stored_vertices(mesh)).to_vec();
+        let index_width = if mesh.vertex_count() <= usize::from(u16::MAX) + 1 {
+            let i: Vec<u16> = mesh.triangles.iter().flatten().map(|&v| v as u16).collect();
+            data.extend_from_slice(bytemuck::cast_slice(&i));
+            2
+        } else {
+            let i: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+            data.extend_from_slice(bytemuck::cast_slice(&i));
+            4
+        };
+        data.resize(data.len().next_multiple_of(8), 0);
+        StoredNode {
+            record: NodeRecord {
+                layer: 0,
+                level: node.level,
+                tile: node.tile,
+                cells: node.cells,
+                error: node.error,
+                min: node.bounds.0,
+                max: node.bounds.1,
+                first_child: 0,
+                child_count: 0,
+                vertex_count: mesh.vertex_count() as u32,
+                index_count: 3 * mesh.triangle_count() as u32,
+                data_offset: 0,
+                index_width,
+                _pad: 0,
+            },
+            data,
+        }
+    }
+}
+
+/// A layer surface's tree of [`StoredNode`]s, root first, breadth first, each with
+/// the indices of its children.
+type StoredTree = Vec<(StoredNode, Vec<u32>)>;
+
 struct Writer {
     path: PathBuf,
     out: BufWriter<File>,
@@ -292,44 +341,24 @@ impl Writer {
         &mut self,
         k: u32,
         face: Face,
-        tree: &LayerTree,
+        tree: &StoredTree,
         cells: Option<&LayerCells>,
         sides: Option<&SurfaceMesh>,
     ) -> Result<()> {
-        if tree.nodes.is_empty() {
+        if tree.is_empty() {
             return Ok(());
         }
         let layer = self.layers.len() as u32;
         let base = self.nodes.len() as u32;
-        for node in &tree.nodes {
-            let mesh = &node.mesh;
+        for (node, children) in tree {
             let data_offset = self.pos;
-            self.write(bytemuck::cast_slice(&stored_vertices(mesh)))?;
-            let index_width = if mesh.vertex_count() <= usize::from(u16::MAX) + 1 {
-                let i: Vec<u16> = mesh.triangles.iter().flatten().map(|&v| v as u16).collect();
-                self.write(bytemuck::cast_slice(&i))?;
-                2
-            } else {
-                let i: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-                self.write(bytemuck::cast_slice(&i))?;
-                4
-            };
-            self.pad()?;
+            self.write(&node.data)?;
             self.nodes.push(NodeRecord {
                 layer,
-                level: node.level,
-                tile: node.tile,
-                cells: node.cells,
-                error: node.error,
-                min: node.bounds.0,
-                max: node.bounds.1,
-                first_child: node.children.first().map_or(0, |&c| base + c),
-                child_count: node.children.len() as u32,
-                vertex_count: mesh.vertex_count() as u32,
-                index_count: 3 * mesh.triangle_count() as u32,
+                first_child: children.first().map_or(0, |&c| base + c),
+                child_count: children.len() as u32,
                 data_offset,
-                index_width,
-                _pad: 0,
+                ..node.record
             });
         }
         let cells_offset = match cells {
@@ -377,7 +406,7 @@ impl Writer {
                 Face::Bottom => 1,
             },
             root: base,
-            node_count: tree.nodes.len() as u32,
+            node_count: tree.len() as u32,
             cells_offset,
             sides_offset,
             side_vertices,
@@ -434,7 +463,7 @@ struct BuiltSurface {
     input_triangles: usize,
     k: usize,
     face: Face,
-    tree: LayerTree,
+    tree: StoredTree,
     cells: Option<LayerCells>,
 }
 
@@ -534,7 +563,7 @@ fn build_file_counted(
                 let cells = property.map(|_| LayerCells::of(&mesh, dims));
                 // The tree needs no cell faces: 24 bytes a cell less while it is built.
                 mesh.cell_faces = Vec::new();
-                let tree = build_layer_counted(&mesh, dims, options, &built)?;
+                let tree = build_layer_with(&mesh, dims, options, &built, &StoredNode::of)?;
                 Ok(BuiltSurface {
                     input_triangles: mesh.triangle_count(),
                     k,
@@ -553,13 +582,14 @@ fn build_file_counted(
             };
             report.input_triangles += s.input_triangles;
             report.stored_triangles += tree
-                .nodes
                 .iter()
-                .map(|n| n.mesh.triangle_count())
+                .map(|(n, _)| n.record.index_count as usize / 3)
                 .sum::<usize>();
-            report.levels = report.levels.max(tree.nodes.first().map_or(0, |n| n.level));
-            report.nodes += tree.nodes.len();
-            report.layers += usize::from(!tree.nodes.is_empty());
+            report.levels = report
+                .levels
+                .max(tree.first().map_or(0, |(n, _)| n.record.level));
+            report.nodes += tree.len();
+            report.layers += usize::from(!tree.is_empty());
             report.side_triangles += sides.map_or(0, SurfaceMesh::triangle_count);
             writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides)?;
             written += 1;

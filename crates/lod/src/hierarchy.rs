@@ -136,7 +136,7 @@ fn root_level(dims: [u32; 2], tile_cells: u32) -> u32 {
 const PARENT_WORK: u64 = 20;
 
 /// Units of work of building the quadtree of a layer of a grid of `dims` cells (as
-/// [`build_layer_counted`] counts them): a unit a leaf tile, [`PARENT_WORK`] a parent
+/// [`build_layer_with`] counts them): a unit a leaf tile, [`PARENT_WORK`] a parent
 /// tile, empty tiles included.
 pub(crate) fn layer_work(dims: [u32; 2], tile_cells: u32) -> u64 {
     let tiles = |level: u32| {
@@ -148,36 +148,99 @@ pub(crate) fn layer_work(dims: [u32; 2], tile_cells: u32) -> u64 {
 }
 
 /// Builds the quadtree of `layer`, a layer surface of a grid of `dims` = `[nx, ny]`
-/// cells (texture coordinates `(2i + 1, 2j + 1)` at node `(i, j)`). Nodes of one
-/// level are built in parallel.
+/// cells (texture coordinates `(2i + 1, 2j + 1)` at node `(i, j)`), on all cores.
 pub fn build_layer(
     layer: &SurfaceMesh,
     dims: [u32; 2],
     options: &BuildOptions,
 ) -> Result<LayerTree> {
-    build_layer_counted(layer, dims, options, &|_| {})
+    let nodes = build_layer_with(layer, dims, options, &|_| {}, &|node| node)?;
+    Ok(LayerTree {
+        nodes: nodes
+            .into_iter()
+            .map(|(node, children)| Node { children, ..node })
+            .collect(),
+    })
 }
 
-/// [`build_layer`], telling `built` the units of [`layer_work`] as each tile is built
-/// (from the threads that build them), so that a progress bar moves within a layer
-/// too: a single layer of tens of millions of cells takes minutes.
-pub(crate) fn build_layer_counted(
+/// A node made into what the caller keeps (by `keep` of [`build_layer_with`]) once
+/// its parent is built, with its descendants.
+struct Kept<K> {
+    node: K,
+    children: Vec<Kept<K>>,
+}
+
+/// A node whose parent is not built yet, which needs it whole.
+struct Pending<K> {
+    node: Node,
+    children: Vec<Kept<K>>,
+}
+
+/// What building a layer's quadtree reads.
+struct LayerBuild<'a> {
+    layer: &'a SurfaceMesh,
+    reference: Reference<'a>,
+    labels: Vec<u32>,
+    dims: [u32; 2],
+    options: &'a BuildOptions,
+    /// Triangles of the layer by leaf tile (row by row): those of leaf `id` are
+    /// `by_tile[start[id]..start[id + 1]]`.
+    by_tile: Vec<u32>,
+    start: Vec<u32>,
+    built: &'a (dyn Fn(u64) + Sync),
+}
+
+/// [`build_layer`], for a caller that keeps each node as `keep` makes it, and is told
+/// by `built` the units of [`layer_work`] as each tile is built (from the threads
+/// that build them), so that a progress bar moves within a layer too: a single layer
+/// of tens of millions of cells takes minutes. The nodes come root first, breadth
+/// first, each with the indices of its children (consecutive).
+///
+/// The tree is built depth first, a subtree per task: a node is handed to `keep` as
+/// soon as its parent is built, so that only the nodes still waiting for their
+/// parent are held whole (the file keeps the others as it stores them, in about half
+/// the memory), not every level of the layer at once.
+pub(crate) fn build_layer_with<K: Send>(
     layer: &SurfaceMesh,
     dims: [u32; 2],
     options: &BuildOptions,
     built: &(dyn Fn(u64) + Sync),
-) -> Result<LayerTree> {
+    keep: &(dyn Fn(Node) -> K + Sync),
+) -> Result<Vec<(K, Vec<u32>)>> {
     options.check()?;
     let t = options.tile_cells;
     if layer.is_empty() {
         built(layer_work(dims, t));
-        return Ok(LayerTree::default());
+        return Ok(Vec::new());
     }
-    let reference = Reference::new(layer)?;
-    let labels = components(layer);
-    let levels = root_level(dims, t);
+    let (by_tile, start) = triangles_by_tile(layer, dims, t)?;
+    let build = LayerBuild {
+        layer,
+        reference: Reference::new(layer)?,
+        labels: components(layer),
+        dims,
+        options,
+        by_tile,
+        start,
+        built,
+    };
+    let root = build.subtree(root_level(dims, t), [0, 0], keep)?;
+    Ok(root.map_or_else(Vec::new, |root| {
+        breadth_first(Kept {
+            node: keep(root.node),
+            children: root.children,
+        })
+    }))
+}
 
-    // Leaves: triangles by the cell under their texture-space centroid.
+/// The triangles of `layer` by the leaf tile (of `tile_cells` cells) under their
+/// texture-space centroid, as [`LayerBuild::by_tile`] and [`LayerBuild::start`].
+fn triangles_by_tile(
+    layer: &SurfaceMesh,
+    dims: [u32; 2],
+    tile_cells: u32,
+) -> Result<(Vec<u32>, Vec<u32>)> {
+    let t = tile_cells;
     let leaf_tiles = tiles_at(dims, t, 0);
     // The leaf tile of each triangle, as u32 (NONE when outside the grid): this list
     // has an entry per triangle of the layer, which an `Option<usize>` would make
@@ -219,63 +282,76 @@ pub(crate) fn build_layer_counted(
         by_tile[fill[a as usize] as usize] = tri as u32;
         fill[a as usize] += 1;
     }
-    drop(assigned);
-    let span_cells = |level: u32, tile: [u32; 2]| -> [u32; 4] {
-        let span = t.saturating_mul(1 << level);
+    Ok((by_tile, start))
+}
+
+impl LayerBuild<'_> {
+    /// Cells covered by `tile` at `level`: `i0, j0, i1, j1`, ends excluded.
+    fn span_cells(&self, level: u32, tile: [u32; 2]) -> [u32; 4] {
+        let span = self.options.tile_cells.saturating_mul(1 << level);
         [
             tile[0] * span,
             tile[1] * span,
-            ((tile[0] + 1) * span).min(dims[0]),
-            ((tile[1] + 1) * span).min(dims[1]),
+            ((tile[0] + 1) * span).min(self.dims[0]),
+            ((tile[1] + 1) * span).min(self.dims[1]),
         ]
-    };
-    let mut current: Vec<Option<Node>> = (0..tile_count)
-        .into_par_iter()
-        .map(|id| {
-            let tris = &by_tile[start[id] as usize..start[id + 1] as usize];
-            let tile = [id as u32 % leaf_tiles[0], id as u32 / leaf_tiles[0]];
-            let node = (!tris.is_empty()).then(|| leaf(layer, tris, tile, span_cells(0, tile)));
-            built(1);
-            node
-        })
-        .collect();
-
-    // Parents, level by level; each level's nodes are kept in `done` (children
-    // first), then ordered breadth first at the end.
-    let mut done: Vec<Vec<Option<Node>>> = Vec::new();
-    for level in 1..=levels {
-        let below = tiles_at(dims, t, level - 1);
-        let here = tiles_at(dims, t, level);
-        let parents: Vec<Option<Node>> = (0..(here[0] * here[1]) as usize)
-            .into_par_iter()
-            .map(|id| {
-                let tile = [id as u32 % here[0], id as u32 / here[0]];
-                let children: Vec<(usize, &Node)> = (0..4)
-                    .filter_map(|k| {
-                        let (cx, cy) = (2 * tile[0] + (k & 1), 2 * tile[1] + (k >> 1));
-                        if cx >= below[0] || cy >= below[1] {
-                            return None;
-                        }
-                        let ci = (cy * below[0] + cx) as usize;
-                        current[ci].as_ref().map(|n| (ci, n))
-                    })
-                    .collect();
-                let node = if children.is_empty() {
-                    None
-                } else {
-                    let cells = span_cells(level, tile);
-                    Some(parent(
-                        &reference, &labels, &children, level, tile, cells, dims, options,
-                    )?)
-                };
-                built(PARENT_WORK);
-                Ok(node)
-            })
-            .collect::<Result<_>>()?;
-        done.push(std::mem::replace(&mut current, parents));
     }
-    done.push(current);
-    Ok(breadth_first(done))
+
+    /// The subtree of `tile` at `level` (`None` where it has no triangle), its
+    /// children's subtrees built in parallel.
+    fn subtree<K: Send>(
+        &self,
+        level: u32,
+        tile: [u32; 2],
+        keep: &(dyn Fn(Node) -> K + Sync),
+    ) -> Result<Option<Pending<K>>> {
+        let t = self.options.tile_cells;
+        if level == 0 {
+            let id = (tile[1] * tiles_at(self.dims, t, 0)[0] + tile[0]) as usize;
+            let tris = &self.by_tile[self.start[id] as usize..self.start[id + 1] as usize];
+            let node = (!tris.is_empty()).then(|| Pending {
+                node: leaf(self.layer, tris, tile, self.span_cells(0, tile)),
+                children: Vec::new(),
+            });
+            (self.built)(1);
+            return Ok(node);
+        }
+        let below = tiles_at(self.dims, t, level - 1);
+        let children: Vec<Option<Pending<K>>> = (0..4)
+            .map(|k| [2 * tile[0] + (k & 1), 2 * tile[1] + (k >> 1)])
+            .filter(|c| c[0] < below[0] && c[1] < below[1])
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|c| self.subtree(level - 1, c, keep))
+            .collect::<Result<_>>()?;
+        let children: Vec<Pending<K>> = children.into_iter().flatten().collect();
+        let node = if children.is_empty() {
+            None
+        } else {
+            let nodes: Vec<&Node> = children.iter().map(|c| &c.node).collect();
+            let cells = self.span_cells(level, tile);
+            let node = parent(
+                &self.reference,
+                &self.labels,
+                &nodes,
+                level,
+                tile,
+                cells,
+                self.dims,
+                self.options,
+            )?;
+            let children = children
+                .into_iter()
+                .map(|c| Kept {
+                    node: keep(c.node),
+                    children: c.children,
+                })
+                .collect();
+            Some(Pending { node, children })
+        };
+        (self.built)(PARENT_WORK);
+        Ok(node)
+    }
 }
 
 /// A leaf: the triangles `tris` of `layer`, with their vertices.
@@ -335,7 +411,7 @@ fn reorder(node: &mut Node) {
 fn parent(
     reference: &Reference,
     labels: &[u32],
-    children: &[(usize, &Node)],
+    children: &[&Node],
     level: u32,
     tile: [u32; 2],
     cells: [u32; 4],
@@ -345,7 +421,7 @@ fn parent(
     // Merge; vertices that are the same original vertex (the shared borders) are one.
     let mut merged = SurfaceMesh::with_origin(reference.mesh().origin);
     let (mut original, mut home) = (Vec::new(), Vec::new());
-    for (_, child) in children {
+    for child in children {
         merged.append(&child.mesh);
         original.extend_from_slice(&child.original);
         home.extend_from_slice(&child.home);
@@ -406,11 +482,11 @@ fn parent(
     // Error: distance to the children's surface at the children's vertices, plus
     // the children's own error.
     let measured = vertex_deviation(&merged, &home, &simplified.mesh, &simplified.home, labels);
-    let child_error = children.iter().fold([0f32; 2], |e, (_, c)| {
+    let child_error = children.iter().fold([0f32; 2], |e, c| {
         [e[0].max(c.error[0]), e[1].max(c.error[1])]
     });
     let (mut lo, mut hi) = simplified.mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
-    for (_, c) in children {
+    for c in children {
         for a in 0..3 {
             lo[a] = lo[a].min(c.bounds.0[a]);
             hi[a] = hi[a].max(c.bounds.1[a]);
@@ -438,7 +514,7 @@ fn parent(
             .collect(),
         home: simplified.home,
         mesh: simplified.mesh,
-        children: children.iter().map(|&(i, _)| i as u32).collect(),
+        children: Vec::new(),
     };
     reorder(&mut node);
     Ok(node)
@@ -488,30 +564,15 @@ fn vertex_deviation(
     worst
 }
 
-/// Orders the nodes of all levels (`levels[0]` the leaves) root first, breadth first,
-/// with each node's children consecutive, and rewrites child indices accordingly.
-fn breadth_first(levels: Vec<Vec<Option<Node>>>) -> LayerTree {
-    let mut levels: Vec<Vec<Option<Node>>> = levels;
-    let top = levels.len() - 1;
-    let mut out: Vec<Node> = Vec::new();
-    // (level, index within level) of each output node, in order.
-    let mut queue: std::collections::VecDeque<(usize, usize)> = std::collections::VecDeque::new();
-    if let Some(root) = levels[top].iter().position(Option::is_some) {
-        queue.push_back((top, root));
+/// The nodes of the tree under `root`, root first, breadth first, each with the
+/// indices of its children (consecutive).
+fn breadth_first<K>(root: Kept<K>) -> Vec<(K, Vec<u32>)> {
+    let mut out: Vec<(K, Vec<u32>)> = Vec::new();
+    let mut queue = std::collections::VecDeque::from([root]);
+    while let Some(Kept { node, children }) = queue.pop_front() {
+        let first = (out.len() + queue.len() + 1) as u32;
+        out.push((node, (first..first + children.len() as u32).collect()));
+        queue.extend(children);
     }
-    while let Some((level, index)) = queue.pop_front() {
-        let Some(mut node) = levels[level][index].take() else {
-            continue;
-        };
-        let children = std::mem::take(&mut node.children);
-        let first = out.len() + queue.len() + 1;
-        node.children = (0..children.len() as u32)
-            .map(|k| first as u32 + k)
-            .collect();
-        for c in children {
-            queue.push_back((level - 1, c as usize));
-        }
-        out.push(node);
-    }
-    LayerTree { nodes: out }
+    out
 }

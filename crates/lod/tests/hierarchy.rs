@@ -331,12 +331,25 @@ fn file_round_trip_and_selection() {
     build_file(&grid, None, &plain, &options(8)).unwrap();
     assert_eq!(LodFile::open(&plain).unwrap().scalar_range(), None);
 
-    // Same meshes as building in memory.
+    // Same nodes, in the same order, as building in memory.
     let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin()).unwrap();
     let tree = build_layer(&mesh, [40, 30], &options(8)).unwrap();
-    let root = file.layers()[0].root as usize;
-    assert_eq!(file.mesh(root).unwrap(), tree.nodes[0].mesh);
-    assert_eq!(file.nodes()[root].error, tree.nodes[0].error);
+    let layer = file.layers()[0];
+    let root = layer.root as usize;
+    assert_eq!(layer.node_count as usize, tree.nodes.len());
+    assert!(tree.nodes.len() > 5, "{} nodes", tree.nodes.len());
+    for (n, node) in tree.nodes.iter().enumerate() {
+        let record = &file.nodes()[root + n];
+        assert_eq!(file.mesh(root + n).unwrap(), node.mesh, "node {n}");
+        assert_eq!(
+            (record.level, record.tile, record.cells, record.error),
+            (node.level, node.tile, node.cells, node.error),
+            "node {n}"
+        );
+        let children = record.first_child..record.first_child + record.child_count;
+        let want: Vec<u32> = node.children.iter().map(|&c| c + root as u32).collect();
+        assert_eq!(children.collect::<Vec<u32>>(), want, "node {n}");
+    }
 
     // From far away the roots do; from close up over a corner, leaves there and
     // coarser nodes further off; every selection covers each layer's cells once.
