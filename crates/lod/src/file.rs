@@ -468,10 +468,9 @@ struct BuiltSurface {
 }
 
 /// Bytes one layer surface's hierarchy holds per active cell while it is built: the
-/// surface, its reference index and every level of its tree. Measured: 13.4 GB over
-/// the grid for two surfaces of 33 M cells built at once (202 bytes a cell); rounded
-/// up.
-const BUILD_BYTES_PER_CELL: f64 = 220.0;
+/// surface, its reference index and its tree. Measured: 9.9 GB over the grid for two
+/// surfaces of 33 M cells built at once (149 bytes a cell); rounded up.
+const BUILD_BYTES_PER_CELL: f64 = 160.0;
 
 /// How many layer surfaces to build at once: one per thread, fewer when `memory` (bytes)
 /// cannot hold that many of the largest; an error when it cannot hold one.
