@@ -97,13 +97,13 @@ enum BenchCommand {
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
     let cli = Cli::parse();
+    if matches!(cli.command, Command::Render(_) | Command::Bench(_)) {
+        keep_freed_memory();
+    }
     let result = match cli.command {
         Command::Info(args) => cli::info::run(&args),
         Command::Synth(args) => cli::synth::run(&args),
-        Command::Render(args) => {
-            keep_freed_memory();
-            cli::render::run(&args)
-        }
+        Command::Render(args) => cli::render::run(&args),
         Command::Terrain(args) => cli::terrain::run(&args),
         Command::Lod(command) => cli::lod::run(&command),
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
@@ -139,8 +139,10 @@ fn quiet_on_closed_pipe() {
 }
 
 /// Keeps freed memory in the process for the next allocation of about its size, for
-/// `render`, which draws a large model in parts of about the same size one after
-/// another.
+/// the commands that make such allocations one after another: `render`, which draws a
+/// large model in parts of about the same size, and the benchmarks, which repeat each
+/// run (`bench lod` on a generated 2000 x 2000 layer: 0.53 s of system time a run
+/// without, none with, for ours and meshoptimizer's simplifiers alike).
 ///
 /// glibc serves blocks above its mmap threshold (32 MiB at most when it adapts it)
 /// with fresh maps and unmaps them when freed, so every part of a model drawn in
