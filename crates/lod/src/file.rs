@@ -506,18 +506,7 @@ pub fn build_file(
     path: &Path,
     options: &BuildOptions,
 ) -> Result<BuildReport> {
-    let bar = if options.progress {
-        let bar = indicatif::ProgressBar::new(0);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {percent:>3} %, {msg} (eta {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = indicatif::ProgressBar::hidden();
     let report = build_file_counted(grid, property, path, options, &bar);
     bar.finish_and_clear();
     report
@@ -525,7 +514,9 @@ pub fn build_file(
 
 /// [`build_file`], counting on `bar` the tiles built, weighed by their work
 /// ([`layer_work`]), not the layers: a model of a few large layers builds them all at
-/// once, and a bar of layers would stand still for minutes.
+/// once, and a bar of layers would stand still for minutes. With
+/// [`BuildOptions::progress`] the bar is drawn on standard error once its length is
+/// known.
 fn build_file_counted(
     grid: &CornerPointGrid,
     property: Option<&str>,
@@ -546,6 +537,18 @@ fn build_file_counted(
         .collect();
     bar.set_length(surfaces.len() as u64 * layer_work(dims, options.tile_cells));
     bar.set_message(format!("0/{} layer surfaces", surfaces.len()));
+    if options.progress {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {percent:>3} %, {msg} (eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        // The clock moves while no tile ends: the side faces come first, and a root
+        // takes a while.
+        bar.enable_steady_tick(std::time::Duration::from_secs(1));
+    }
     let built = |units: u64| bar.inc(units);
     // The side faces of all layers at once, so that a vertex between two layers
     // averages the property over both, as `strata render --sides` draws it.
