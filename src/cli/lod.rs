@@ -45,7 +45,7 @@ pub struct BuildArgs {
     #[arg(short, long)]
     output: PathBuf,
     /// Cells along each side of a leaf tile.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=4096))]
     tile: u32,
     /// Vertical exaggeration the hierarchy will be viewed with (weighs vertical error).
     #[arg(long, default_value_t = 5.0, value_parser = parse_zscale)]

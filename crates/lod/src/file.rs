@@ -524,6 +524,7 @@ fn build_file_counted(
     options: &BuildOptions,
     bar: &indicatif::ProgressBar,
 ) -> Result<BuildReport> {
+    options.check()?;
     let start = Instant::now();
     let d = grid.dims();
     let dims = [
@@ -1386,6 +1387,18 @@ mod tests {
         let whole = 4 * layer_work([30, 20], 4);
         assert_eq!(bar.length(), Some(whole));
         assert_eq!(bar.position(), whole);
+
+        // Tiles of no cells are refused before any is counted.
+        let none = BuildOptions {
+            tile_cells: 0,
+            ..BuildOptions::default()
+        };
+        let err = build_file_counted(&grid, None, &path, &none, &bar).err();
+        assert!(
+            err.as_ref()
+                .is_some_and(|e| e.to_string().contains("tile_cells must be in 1..=4096")),
+            "{err:?}"
+        );
     }
 
     #[test]

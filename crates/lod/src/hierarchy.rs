@@ -64,7 +64,7 @@ impl Default for BuildOptions {
 }
 
 impl BuildOptions {
-    fn check(&self) -> Result<()> {
+    pub(crate) fn check(&self) -> Result<()> {
         if self.tile_cells == 0 || self.tile_cells > 4096 {
             return Err(Error::Option(format!(
                 "tile_cells must be in 1..=4096, got {}",
