@@ -219,6 +219,39 @@ fn a_missing_property_deck_is_named() {
 }
 
 #[test]
+fn the_model_and_its_decks_are_never_written_over() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let model = dir.path().join("model.grdecl");
+    std::fs::copy(sample(), &model).expect("the sample is copied");
+    let before = std::fs::read(&model).expect("the copy reads");
+    let model_s = model.to_str().expect("a UTF-8 path");
+    let deck = dir.path().join("deck.grdecl");
+    std::fs::write(&deck, "PORO\n 5184*0.2 /\n").expect("a deck is written");
+    let deck_s = deck.to_str().expect("a UTF-8 path");
+    for output in [model_s, deck_s] {
+        let out = strata(&["lod", "build", model_s, "--props", deck_s, "-o", output]);
+        assert!(!out.status.success(), "-o {output} is refused");
+        assert!(
+            stderr(&out).contains("which this command reads"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    assert_eq!(std::fs::read(&model).expect("the model reads"), before);
+    let lod = dir.path().join("model.lod");
+    let out = strata(&[
+        "lod",
+        "build",
+        model_s,
+        "--props",
+        deck_s,
+        "-o",
+        lod.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
 fn render_lod_says_when_its_budget_cuts_the_outlines() {
     let grid = strata::grid::open(&sample()).expect("the sample reads");
     let (scene, _) = build(&grid, &SceneOptions::default()).expect("the sample's surfaces");

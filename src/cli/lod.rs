@@ -95,6 +95,10 @@ pub fn run(command: &LodCommand) -> Result<()> {
 
 fn build(args: &BuildArgs) -> Result<()> {
     let start = Instant::now();
+    let inputs: Vec<&std::path::Path> = std::iter::once(args.model.as_path())
+        .chain(args.read.props.iter().map(PathBuf::as_path))
+        .collect();
+    super::refuse_overwriting(&args.output, &inputs)?;
     let (_, grid) = super::open_model(Some(&args.model), &args.read)
         .with_context(|| format!("reading {}", args.model.display()))?;
     super::warn_skipped(&grid);

@@ -70,6 +70,43 @@ fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) ->
     Ok(())
 }
 
+/// Refuses to write `output` over one of the files a command reads (`inputs`, e.g. the
+/// model and its property decks): `lod build MODEL -o MODEL` replaced the model with
+/// its hierarchy. The same file by another name (a link, `./`) is found too.
+pub fn refuse_overwriting(output: &Path, inputs: &[&Path]) -> Result<()> {
+    let Ok(out) = std::fs::metadata(output) else {
+        // Nothing there yet: nothing to lose.
+        return Ok(());
+    };
+    for input in inputs {
+        let Ok(read) = std::fs::metadata(input) else {
+            continue;
+        };
+        if same_file(&out, &read, output, input) {
+            anyhow::bail!(
+                "{}: is {}, which this command reads; choose another output",
+                output.display(),
+                input.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Whether two paths, of metadata `a` and `b`, name one file.
+#[cfg(unix)]
+fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata, _: &Path, _: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    (a.dev(), a.ino()) == (b.dev(), b.ino())
+}
+
+/// Whether two paths name one file (where there are no inode numbers to compare: by
+/// their canonical paths).
+#[cfg(not(unix))]
+fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata, a: &Path, b: &Path) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+}
+
 /// Refuses work that needs about `needed` bytes when the system has less available
 /// (Linux's MemAvailable; elsewhere nothing is known and nothing is refused): past the
 /// memory there is, the allocator aborts or the system's OOM killer ends the run long
@@ -100,4 +137,42 @@ pub fn available_memory() -> Option<f64> {
         .parse::<f64>()
         .ok()?;
     Some(1024.0 * kb)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_output_that_is_an_input_by_any_name_is_refused() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let model = dir.path().join("model.egrid");
+        std::fs::write(&model, b"model").expect("written");
+        let other = dir.path().join("other.lod");
+        std::fs::write(&other, b"other").expect("written");
+        let fresh = dir.path().join("fresh.lod");
+        let dotted = dir.path().join(".").join("model.egrid");
+        let refused = |output: &Path| refuse_overwriting(output, &[&other, &model]).is_err();
+        assert!(refused(&model));
+        assert!(refused(&dotted));
+        #[cfg(unix)]
+        {
+            let linked = dir.path().join("linked.egrid");
+            std::os::unix::fs::symlink(&model, &linked).expect("a symbolic link");
+            let hard = dir.path().join("hard.egrid");
+            std::fs::hard_link(&model, &hard).expect("a hard link");
+            assert!(refused(&linked));
+            assert!(refused(&hard));
+        }
+        assert!(!refused(&fresh), "a file that is not there yet");
+        assert!(
+            refuse_overwriting(&other, &[&model]).is_ok(),
+            "another existing file may be replaced"
+        );
+        let said = refuse_overwriting(&model, &[&model])
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(said.contains("choose another output"), "{said}");
+    }
 }
