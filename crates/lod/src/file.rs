@@ -302,23 +302,36 @@ impl StoredNode {
 /// the indices of its children.
 type StoredTree = Vec<(StoredNode, Vec<u32>)>;
 
+/// Writes a hierarchy file. It is written beside `path` under another name and
+/// takes `path`'s name only once whole ([`Writer::finish`]): a build that fails leaves
+/// a hierarchy already at `path` as it was, and one that succeeds replaces it without
+/// truncating it under a `lod view` that has it mapped.
 struct Writer {
     path: PathBuf,
+    partial: PathBuf,
     out: BufWriter<File>,
     pos: u64,
     nodes: Vec<NodeRecord>,
     layers: Vec<LayerRecord>,
+    /// Whether the file took its name; if not, the partial file is removed on drop.
+    named: bool,
 }
 
 impl Writer {
     fn create(path: &Path) -> Result<Self> {
-        let file = File::create(path).map_err(|e| Error::io(path, e))?;
+        let mut name = std::ffi::OsString::from(".");
+        name.push(path.file_name().unwrap_or_else(|| "hierarchy".as_ref()));
+        name.push(".partial");
+        let partial = path.with_file_name(name);
+        let file = File::create(&partial).map_err(|e| Error::io(path, e))?;
         let mut w = Writer {
             path: path.to_path_buf(),
+            partial,
             out: BufWriter::with_capacity(1 << 20, file),
             pos: 0,
             nodes: Vec::new(),
             layers: Vec::new(),
+            named: false,
         };
         w.write(bytemuck::bytes_of(&Header::zeroed()))?;
         Ok(w)
@@ -454,7 +467,18 @@ impl Writer {
             .write_all(bytemuck::bytes_of(&header))
             .map_err(io)?;
         self.out.flush().map_err(io)?;
+        std::fs::rename(&self.partial, &self.path).map_err(io)?;
+        self.named = true;
         Ok(self.pos)
+    }
+}
+
+impl Drop for Writer {
+    fn drop(&mut self) {
+        if !self.named {
+            // Best effort: an error here would hide the one that stopped the build.
+            let _ = std::fs::remove_file(&self.partial);
+        }
     }
 }
 
@@ -1399,6 +1423,44 @@ mod tests {
                 .is_some_and(|e| e.to_string().contains("tile_cells must be in 1..=4096")),
             "{err:?}"
         );
+    }
+
+    #[test]
+    fn a_hierarchy_takes_its_name_only_once_written_whole() {
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let path = dir.path().join("model.lod");
+        std::fs::write(&path, b"an earlier hierarchy").expect("written");
+        let listing = || {
+            let mut names: Vec<String> = std::fs::read_dir(dir.path())
+                .expect("the folder lists")
+                .map(|e| {
+                    e.expect("an entry")
+                        .file_name()
+                        .to_string_lossy()
+                        .into_owned()
+                })
+                .collect();
+            names.sort();
+            names
+        };
+        // A build that stops half way (the writer dropped unfinished).
+        let mut writer = Writer::create(&path).expect("the writer starts");
+        writer.write(&[1; 64]).expect("written");
+        assert_eq!(listing(), [".model.lod.partial", "model.lod"]);
+        drop(writer);
+        assert_eq!(listing(), ["model.lod"]);
+        assert_eq!(
+            std::fs::read(&path).expect("reads"),
+            b"an earlier hierarchy"
+        );
+        // One that ends replaces it.
+        let writer = Writer::create(&path).expect("the writer starts");
+        let bytes = writer
+            .finish([0.0; 3], [1, 1], 1, None)
+            .expect("the file is finished");
+        assert_eq!(listing(), ["model.lod"]);
+        assert_eq!(std::fs::metadata(&path).expect("there").len(), bytes);
+        assert!(LodFile::open(&path).is_ok());
     }
 
     #[test]
