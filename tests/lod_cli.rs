@@ -219,7 +219,7 @@ fn a_missing_property_deck_is_named() {
 }
 
 #[test]
-fn the_model_and_its_decks_are_never_written_over() {
+fn no_command_writes_over_what_it_reads() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let model = dir.path().join("model.grdecl");
     std::fs::copy(sample(), &model).expect("the sample is copied");
@@ -237,18 +237,26 @@ fn the_model_and_its_decks_are_never_written_over() {
             stderr(&out)
         );
     }
+    let out = strata(&["render", model_s, "--props", deck_s, "-o", deck_s]);
+    assert!(
+        !out.status.success() && stderr(&out).contains("which this command reads"),
+        "{}",
+        stderr(&out)
+    );
     assert_eq!(std::fs::read(&model).expect("the model reads"), before);
-    let lod = dir.path().join("model.lod");
-    let out = strata(&[
-        "lod",
-        "build",
-        model_s,
-        "--props",
-        deck_s,
-        "-o",
-        lod.to_str().expect("a UTF-8 path"),
-    ]);
+    // A hierarchy given a picture's name is not drawn over either.
+    let lod = dir.path().join("model.png");
+    let lod_s = lod.to_str().expect("a UTF-8 path");
+    let out = strata(&["lod", "build", model_s, "--props", deck_s, "-o", lod_s]);
     assert!(out.status.success(), "{}", stderr(&out));
+    let built = std::fs::read(&lod).expect("the hierarchy reads");
+    let out = strata(&["lod", "view", lod_s, "-o", lod_s]);
+    assert!(
+        !out.status.success() && stderr(&out).contains("which this command reads"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(std::fs::read(&lod).expect("the hierarchy reads"), built);
 }
 
 #[test]

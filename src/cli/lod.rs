@@ -1,7 +1,7 @@
 //! `strata lod`: build a level-of-detail hierarchy file of a model, and view one; and
 //! the decimation behind `strata render --lod`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
@@ -95,7 +95,7 @@ pub fn run(command: &LodCommand) -> Result<()> {
 
 fn build(args: &BuildArgs) -> Result<()> {
     let start = Instant::now();
-    let inputs: Vec<&std::path::Path> = std::iter::once(args.model.as_path())
+    let inputs: Vec<&Path> = std::iter::once(args.model.as_path())
         .chain(args.read.props.iter().map(PathBuf::as_path))
         .collect();
     super::refuse_overwriting(&args.output, &inputs)?;
@@ -163,6 +163,9 @@ pub fn size_text(bytes: u64) -> String {
 
 fn view(args: &ViewArgs) -> Result<()> {
     let start = Instant::now();
+    if let Some(output) = &args.output {
+        super::refuse_overwriting(output, &[&args.file])?;
+    }
     let wire = decimated_wire(args.style.wire, "lod view")?;
     let file = LodFile::open(&args.file)?;
     let nz = file.layers().iter().map(|l| l.k as usize + 1).max();

@@ -70,9 +70,10 @@ fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) ->
     Ok(())
 }
 
-/// Refuses to write `output` over one of the files a command reads (`inputs`, e.g. the
-/// model and its property decks): `lod build MODEL -o MODEL` replaced the model with
-/// its hierarchy. The same file by another name (a link, `./`) is found too.
+/// Refuses to write `output` over one of the files a command reads (`inputs`: the
+/// model and its property decks, a hierarchy, terrain picks): `lod build MODEL -o
+/// MODEL` replaced the model with its hierarchy. The same file by another name (a
+/// link, `./`) is found too.
 pub fn refuse_overwriting(output: &Path, inputs: &[&Path]) -> Result<()> {
     let Ok(out) = std::fs::metadata(output) else {
         // Nothing there yet: nothing to lose.

@@ -1,7 +1,7 @@
 //! `strata render`: a model's layers (and sides) shaded by a property with the cell
 //! wireframe, to a PNG.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
@@ -90,6 +90,13 @@ fn parse_adjust(s: &str) -> Result<RangeAdjust, String> {
 
 pub fn run(args: &RenderArgs) -> Result<()> {
     let start = Instant::now();
+    let inputs: Vec<&Path> = args
+        .model
+        .iter()
+        .chain(&args.read.props)
+        .map(PathBuf::as_path)
+        .collect();
+    super::refuse_overwriting(&args.output, &inputs)?;
     let wire = match args.lod {
         Some(_) => decimated_wire(args.style.wire, "--lod")?,
         None => args.style.wire,

@@ -2,7 +2,7 @@
 //! generated), triangulated with constrained Delaunay, drawn shaded by elevation with
 //! map grid lines of constant thickness and optional depth contours, to a PNG.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
@@ -91,6 +91,14 @@ fn parse_contours(s: &str) -> Result<(f32, u32), String> {
 const TIN_BYTES_PER_PICK: f64 = 400.0;
 
 pub fn run(args: &TerrainArgs) -> Result<()> {
+    let inputs: Vec<&Path> = args
+        .points
+        .iter()
+        .chain(&args.boundary)
+        .chain(&args.fault)
+        .map(PathBuf::as_path)
+        .collect();
+    super::refuse_overwriting(&args.output, &inputs)?;
     let input = match (&args.points, args.generate) {
         (Some(path), None) => TerrainInput {
             points: terrain::read_points(path, args.depth)?,
