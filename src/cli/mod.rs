@@ -75,36 +75,28 @@ fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) ->
 /// MODEL` replaced the model with its hierarchy. The same file by another name (a
 /// link, `./`) is found too.
 pub fn refuse_overwriting(output: &Path, inputs: &[&Path]) -> Result<()> {
-    let Ok(out) = std::fs::metadata(output) else {
-        // Nothing there yet: nothing to lose.
-        return Ok(());
-    };
-    for input in inputs {
-        let Ok(read) = std::fs::metadata(input) else {
-            continue;
-        };
-        if same_file(&out, &read, output, input) {
-            anyhow::bail!(
-                "{}: is {}, which this command reads; choose another output",
-                output.display(),
-                input.display()
-            );
-        }
+    if let Some(input) = inputs.iter().find(|input| same_file(output, input)) {
+        anyhow::bail!(
+            "{}: is {}, which this command reads; choose another output",
+            output.display(),
+            input.display()
+        );
     }
     Ok(())
 }
 
-/// Whether two paths, of metadata `a` and `b`, name one file.
+/// Whether `a` and `b` both exist and are one file: the same device and inode.
 #[cfg(unix)]
-fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata, _: &Path, _: &Path) -> bool {
+fn same_file(a: &Path, b: &Path) -> bool {
     use std::os::unix::fs::MetadataExt;
-    (a.dev(), a.ino()) == (b.dev(), b.ino())
+    let id = |p: &Path| std::fs::metadata(p).map(|m| (m.dev(), m.ino()));
+    matches!((id(a), id(b)), (Ok(a), Ok(b)) if a == b)
 }
 
-/// Whether two paths name one file (where there are no inode numbers to compare: by
-/// their canonical paths).
+/// Whether `a` and `b` both exist and are one file (where there are no inode numbers
+/// to compare: by their canonical paths).
 #[cfg(not(unix))]
-fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata, a: &Path, b: &Path) -> bool {
+fn same_file(a: &Path, b: &Path) -> bool {
     matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
 

@@ -113,10 +113,15 @@ pub struct LayerTree {
     pub nodes: Vec<Node>,
 }
 
-/// Tiles across and along a grid of `dims` cells at `level` of a quadtree whose leaves
-/// are `tile_cells` wide.
+/// Cells along each side of a tile at `level` of a quadtree whose leaves are
+/// `tile_cells` wide.
+fn tile_span(tile_cells: u32, level: u32) -> u32 {
+    tile_cells.saturating_mul(1 << level.min(31))
+}
+
+/// Tiles across and along a grid of `dims` cells at `level` of such a quadtree.
 fn tiles_at(dims: [u32; 2], tile_cells: u32, level: u32) -> [u32; 2] {
-    let span = tile_cells.saturating_mul(1 << level.min(31));
+    let span = tile_span(tile_cells, level);
     [dims[0].div_ceil(span).max(1), dims[1].div_ceil(span).max(1)]
 }
 
@@ -288,7 +293,7 @@ fn triangles_by_tile(
 impl LayerBuild<'_> {
     /// Cells covered by `tile` at `level`: `i0, j0, i1, j1`, ends excluded.
     fn span_cells(&self, level: u32, tile: [u32; 2]) -> [u32; 4] {
-        let span = self.options.tile_cells.saturating_mul(1 << level);
+        let span = tile_span(self.options.tile_cells, level);
         [
             tile[0] * span,
             tile[1] * span,
