@@ -44,8 +44,15 @@ fn a_deck_is_not_resident_beside_its_values() {
     let text = std::fs::metadata(&path).expect("the deck's size").len();
     let values = 4 * corners as u64;
 
+    // As many threads as a large workstation has: the text in flight must not grow
+    // with them.
+    let threads = rayon::ThreadPoolBuilder::new()
+        .num_threads(64)
+        .build()
+        .expect("a pool of threads");
     let before = common::status_bytes("VmHWM");
-    let grid = strata_grid::grdecl::read(&path, &strata_grid::ReadOptions::default())
+    let grid = threads
+        .install(|| strata_grid::grdecl::read(&path, &strata_grid::ReadOptions::default()))
         .expect("the deck reads");
     let grown = common::status_bytes("VmHWM").saturating_sub(before);
     assert_eq!(grid.dims().nz, nz);
