@@ -9,6 +9,11 @@
 //! updates their attributes), but then nothing ties the new texture coordinates to
 //! the original surface at the new position. Ours places new vertices and keeps them
 //! on the original surface (see [`crate::decimate`]).
+//!
+//! `clusterlod` builds meshoptimizer's other answer to massive meshes, a Nanite-style
+//! DAG of clusters whose group borders are locked while each level is simplified;
+//! measured here as the cut through that DAG a renderer would draw at the largest
+//! error that keeps within the budget, against ours and its plain simplifiers.
 
 use meshopt::{SimplifyOptions, VertexDataAdapter};
 use strata_grid::SurfaceMesh;
@@ -30,14 +35,24 @@ pub enum Simplifier {
     Update,
     /// `meshopt_simplifySloppy`: vertex clustering, ignores topology.
     Sloppy,
+    /// `clodBuild` (meshoptimizer's cluster LOD, its default configuration for
+    /// rasterization, clusters of up to [`CLUSTER_TRIANGLES`] triangles, attributes
+    /// weighed as `Attributes` weighs them), cut at the smallest error whose clusters
+    /// fit the budget ([`cluster_cut`]).
+    ClusterLod,
 }
 
+/// Triangles of a cluster of [`Simplifier::ClusterLod`]: the size meshoptimizer's
+/// examples draw meshlets with.
+pub const CLUSTER_TRIANGLES: usize = 128;
+
 impl Simplifier {
-    pub const ALL: [Simplifier; 4] = [
+    pub const ALL: [Simplifier; 5] = [
         Simplifier::Simplify,
         Simplifier::Attributes,
         Simplifier::Update,
         Simplifier::Sloppy,
+        Simplifier::ClusterLod,
     ];
 
     pub fn name(self) -> &'static str {
@@ -46,6 +61,7 @@ impl Simplifier {
             Simplifier::Attributes => "meshopt_attributes",
             Simplifier::Update => "meshopt_update",
             Simplifier::Sloppy => "meshopt_sloppy",
+            Simplifier::ClusterLod => "meshopt_clusterlod",
         }
     }
 }
@@ -121,6 +137,20 @@ pub fn simplify(
         Simplifier::Sloppy => {
             meshopt::simplify_sloppy(&indices, &adapter, target, f32::MAX, Some(&mut error))
         }
+        Simplifier::ClusterLod => {
+            let mesh = meshopt::ClodMesh {
+                vertex_attributes: &attributes,
+                vertex_attributes_stride: 12,
+                attribute_weights: &weights,
+                ..meshopt::ClodMesh::new(&indices, &adapter)
+            };
+            let dag = ClusterDag::build(&mesh);
+            let (cut, at) = dag.cut_within(target_triangles);
+            // clusterlod's errors are in the units of the positions, not relative
+            // to the extent as the simplifiers' are.
+            error = at / extent as f32;
+            cut
+        }
         Simplifier::Update => {
             let mut updated = indices.clone();
             let n = meshopt::simplify_with_update(
@@ -185,6 +215,79 @@ pub fn simplify(
         cover: None,
         timings: Default::default(),
     })
+}
+
+/// meshoptimizer's cluster LOD DAG of one mesh: every group's error and every
+/// cluster's group, the group it was simplified from and its indices (into the
+/// mesh's vertices).
+struct ClusterDag {
+    /// Error of each group's simplified clusters (`f32::MAX` where the group is not
+    /// simplified further).
+    group_error: Vec<f32>,
+    clusters: Vec<Cluster>,
+}
+
+struct Cluster {
+    group: usize,
+    /// The group whose simplification made this cluster; `None` for original ones.
+    refined: Option<usize>,
+    indices: Vec<u32>,
+}
+
+impl ClusterDag {
+    fn build(mesh: &meshopt::ClodMesh<'_>) -> ClusterDag {
+        let mut dag = ClusterDag {
+            group_error: Vec::new(),
+            clusters: Vec::new(),
+        };
+        let config = meshopt::clod_default_config(CLUSTER_TRIANGLES);
+        meshopt::clod_build(config, mesh, |group, clusters| {
+            let id = dag.group_error.len();
+            dag.group_error.push(group.simplified.error);
+            dag.clusters.extend(clusters.iter().map(|c| Cluster {
+                group: id,
+                refined: usize::try_from(c.refined).ok(),
+                indices: c.indices.to_vec(),
+            }));
+            id as i32
+        });
+        dag
+    }
+
+    /// Whether a renderer whose error threshold is `t` draws `cluster`: its group's
+    /// simplification is too coarse for `t`, the one that made it is not.
+    fn drawn(&self, cluster: &Cluster, t: f32) -> bool {
+        self.group_error[cluster.group] > t
+            && cluster.refined.is_none_or(|g| self.group_error[g] <= t)
+    }
+
+    fn triangles_at(&self, t: f32) -> usize {
+        self.clusters
+            .iter()
+            .filter(|c| self.drawn(c, t))
+            .map(|c| c.indices.len() / 3)
+            .sum()
+    }
+
+    /// The indices of the finest cut with at most `target` triangles (the coarsest
+    /// cut when none has so few), and its error threshold.
+    fn cut_within(&self, target: usize) -> (Vec<u32>, f32) {
+        let mut errors: Vec<f32> = std::iter::once(0.0)
+            .chain(self.group_error.iter().copied().filter(|e| *e < f32::MAX))
+            .collect();
+        errors.sort_by(f32::total_cmp);
+        errors.dedup();
+        // Triangles drawn only fall as the threshold rises.
+        let first_within = errors.partition_point(|&t| self.triangles_at(t) > target);
+        let t = errors[first_within.min(errors.len() - 1)];
+        let indices = self
+            .clusters
+            .iter()
+            .filter(|c| self.drawn(c, t))
+            .flat_map(|c| c.indices.iter().copied())
+            .collect();
+        (indices, t)
+    }
 }
 
 /// Triangles of the flat index list `indices`, each index through `remap`.
@@ -276,6 +379,55 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Area of `mesh` seen from above: a crack or an overlap between clusters of a
+    /// cut changes it.
+    fn plan_area(mesh: &SurfaceMesh) -> f64 {
+        mesh.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| mesh.positions[v as usize]);
+                let (u, w) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+                f64::from(u[0] * w[1] - u[1] * w[0]) / 2.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn a_cluster_lod_cut_covers_the_surface_within_its_budget() {
+        let mesh = SurfaceMesh::structured(120, 80, |i, j| {
+            [
+                i as f32 * 10.0,
+                j as f32 * 10.0,
+                ((i as f32) * 0.1).sin() * 20.0 + ((j as f32) * 0.15).cos() * 10.0,
+            ]
+        });
+        let whole = plan_area(&mesh);
+        let mut last = usize::MAX;
+        for target in [19_000, 5_000, 2_000, 800] {
+            let cut = simplify(&mesh, Simplifier::ClusterLod, target, 1.0).unwrap();
+            cut.mesh.validate().unwrap();
+            let n = cut.mesh.triangle_count();
+            assert!(n <= target && n <= last, "{n} triangles for {target}");
+            assert!(
+                n > target / 4,
+                "{n} triangles for {target}: not the finest cut"
+            );
+            let area = plan_area(&cut.mesh);
+            assert!(
+                (area - whole).abs() < 1e-3 * whole,
+                "{target}: the cut covers {area} of {whole}"
+            );
+            for (v, &src) in cut.source.iter().enumerate() {
+                assert_eq!(cut.mesh.texcoords[v], mesh.texcoords[src as usize]);
+            }
+            last = n;
+        }
+        // A budget of every triangle draws the original clusters.
+        let all = simplify(&mesh, Simplifier::ClusterLod, mesh.triangle_count(), 1.0).unwrap();
+        assert_eq!(all.mesh.triangle_count(), mesh.triangle_count());
+        assert_eq!(all.error, 0.0);
     }
 
     #[test]
