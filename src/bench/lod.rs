@@ -774,7 +774,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
         .filter(|f| f.kept_triangles > f.budget_triangles)
     {
         notes.push(format!(
-            "{} {} at {} %: {} triangles for a budget of {}, so not compared at that budget",
+            "{} {} at {} %: {} triangles, over its budget of {}",
             f.model, f.simplifier, f.budget_percent, f.kept_triangles, f.budget_triangles
         ));
     }

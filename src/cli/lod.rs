@@ -113,13 +113,16 @@ fn build(args: &BuildArgs) -> Result<()> {
     };
     let d = grid.dims();
     eprintln!(
-        "{}: {} x {} x {} cells read in {read:.1} s; building {} layer surfaces on {} threads",
+        "{}: {} x {} x {} cells read in {read:.1} s; building {} layer surfaces on {}",
         args.model.display(),
         d.nx,
         d.ny,
         d.nz,
         d.nz + 1,
-        threads()
+        match rayon::current_num_threads() {
+            1 => "1 thread".to_string(),
+            n => format!("{n} threads"),
+        }
     );
     let options = BuildOptions {
         tile_cells: args.tile,
@@ -671,10 +674,6 @@ fn parse_pixels(s: &str) -> Result<f32, String> {
         .ok()
         .filter(|p| *p >= 0.0)
         .ok_or_else(|| format!("{s:?} is not a number of pixels of at least 0"))
-}
-
-fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 #[cfg(test)]

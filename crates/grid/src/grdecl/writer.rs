@@ -24,6 +24,10 @@ use crate::{CornerPointGrid, Error, Result};
 
 /// Values per parallel piece.
 const PIECE: usize = 1 << 16;
+
+/// Most pieces formatted at once: about 40 MB of text however many cores format
+/// them, as a wave of four pieces a thread would grow with the machine.
+const MAX_WAVE: usize = 64;
 /// Lines are kept within this many bytes; Eclipse ignores anything past column 132.
 const LINE: usize = 100;
 /// Shortest run written as `N*v`: `2*5` is no shorter than `5 5`.
@@ -88,7 +92,7 @@ fn values<T: Put>(w: &mut impl Write, name: &str, array: &Array3<T>) -> io::Resu
         Some(s) => Cow::Borrowed(s),
         None => Cow::Owned(array.iter().copied().collect()),
     };
-    let wave = PIECE * 4 * rayon::current_num_threads().max(1);
+    let wave = PIECE * (4 * rayon::current_num_threads()).clamp(1, MAX_WAVE);
     for group in data.chunks(wave) {
         let texts: Vec<Vec<u8>> = group.par_chunks(PIECE).map(format_piece).collect();
         for t in &texts {
