@@ -66,6 +66,69 @@ impl Simplifier {
     }
 }
 
+/// `mesh` as meshoptimizer takes it: positions with `z_scale` applied, flat indices,
+/// and per vertex the texture coordinates and scalar, weighed as [`Options`] weighs
+/// them in ours, in the units of meshoptimizer's positions (scaled to unit extent).
+struct Inputs {
+    positions: Vec<[f32; 3]>,
+    indices: Vec<u32>,
+    attributes: Vec<f32>,
+    /// Diagonal of the bounding box of `positions`.
+    extent: f64,
+    uv_scale: f32,
+    s_scale: f32,
+    s_mean: f32,
+}
+
+/// Weights of the three attributes: the scaling of [`Inputs`] already weighs them.
+const WEIGHTS: [f32; 3] = [1.0; 3];
+
+/// Bytes of a vertex's attributes in [`Inputs::attributes`].
+const ATTRIBUTE_STRIDE: usize = 12;
+
+impl Inputs {
+    fn of(mesh: &SurfaceMesh, z_scale: f32) -> Result<Inputs> {
+        mesh.validate().map_err(Error::Mesh)?;
+        let options = Options {
+            z_scale,
+            ..Options::default()
+        };
+        let frame = Frame::new(mesh, &options);
+        let positions: Vec<[f32; 3]> = mesh
+            .positions
+            .iter()
+            .map(|p| [p[0], p[1], p[2] * z_scale])
+            .collect();
+        let extent = extent(&positions);
+        let (uv_scale, s_scale, s_mean) = (
+            (frame.uv_scale / extent) as f32,
+            (frame.s_scale / extent) as f32,
+            frame.s_mean as f32,
+        );
+        let attributes: Vec<f32> = (0..mesh.vertex_count())
+            .flat_map(|v| {
+                let [u, w] = mesh.texcoords[v];
+                let s = mesh.scalars.get(v).copied().unwrap_or(f32::NAN);
+                let s = if s.is_nan() {
+                    0.0
+                } else {
+                    (s - s_mean) * s_scale
+                };
+                [u * uv_scale, w * uv_scale, s]
+            })
+            .collect();
+        Ok(Inputs {
+            positions,
+            indices: mesh.triangles.iter().flatten().copied().collect(),
+            attributes,
+            extent,
+            uv_scale,
+            s_scale,
+            s_mean,
+        })
+    }
+}
+
 /// Simplifies `mesh` to about `target_triangles` with `simplifier`; positions, texture
 /// coordinates and scalar are weighed as [`Options`] with `z_scale` weighs them in
 /// ours. `home` of each result vertex is a triangle of `mesh` around the input vertex
@@ -76,39 +139,16 @@ pub fn simplify(
     target_triangles: usize,
     z_scale: f32,
 ) -> Result<Decimated> {
-    mesh.validate().map_err(Error::Mesh)?;
-    let options = Options {
-        z_scale,
-        ..Options::default()
-    };
-    let frame = Frame::new(mesh, &options);
-    let mut positions: Vec<[f32; 3]> = mesh
-        .positions
-        .iter()
-        .map(|p| [p[0], p[1], p[2] * z_scale])
-        .collect();
-    let extent = extent(&positions);
-    let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+    let Inputs {
+        mut positions,
+        indices,
+        mut attributes,
+        extent,
+        uv_scale,
+        s_scale,
+        s_mean,
+    } = Inputs::of(mesh, z_scale)?;
     let target = 3 * target_triangles;
-    // Attributes in the units of meshoptimizer's positions (scaled to unit extent).
-    let (uv_scale, s_scale, s_mean) = (
-        (frame.uv_scale / extent) as f32,
-        (frame.s_scale / extent) as f32,
-        frame.s_mean as f32,
-    );
-    let mut attributes: Vec<f32> = (0..mesh.vertex_count())
-        .flat_map(|v| {
-            let [u, w] = mesh.texcoords[v];
-            let s = mesh.scalars.get(v).copied().unwrap_or(f32::NAN);
-            let s = if s.is_nan() {
-                0.0
-            } else {
-                (s - s_mean) * s_scale
-            };
-            [u * uv_scale, w * uv_scale, s]
-        })
-        .collect();
-    let weights = [1.0f32; 3];
     let mut error = 0f32;
     let bytes: &[u8] = bytemuck::cast_slice(&positions);
     let adapter = VertexDataAdapter::new(bytes, 12, 0).map_err(|e| Error::Mesh(e.to_string()))?;
@@ -126,8 +166,8 @@ pub fn simplify(
             &indices,
             &adapter,
             &attributes,
-            &weights,
-            12,
+            &WEIGHTS,
+            ATTRIBUTE_STRIDE,
             &none,
             target,
             f32::MAX,
@@ -138,13 +178,7 @@ pub fn simplify(
             meshopt::simplify_sloppy(&indices, &adapter, target, f32::MAX, Some(&mut error))
         }
         Simplifier::ClusterLod => {
-            let mesh = meshopt::ClodMesh {
-                vertex_attributes: &attributes,
-                vertex_attributes_stride: 12,
-                attribute_weights: &weights,
-                ..meshopt::ClodMesh::new(&indices, &adapter)
-            };
-            let dag = ClusterDag::build(&mesh);
+            let dag = ClusterLod::of(&indices, &adapter, &attributes);
             let (cut, at) = dag.cut_within(target_triangles);
             // clusterlod's errors are in the units of the positions, not relative
             // to the extent as the simplifiers' are.
@@ -157,8 +191,8 @@ pub fn simplify(
                 &mut updated,
                 &mut positions,
                 &mut attributes,
-                &weights,
-                12,
+                &WEIGHTS,
+                ATTRIBUTE_STRIDE,
                 None,
                 target,
                 f32::MAX,
@@ -195,11 +229,7 @@ pub fn simplify(
             let moved = out.positions.last() != Some(&mesh.positions[v]);
             source.push(if moved { NEW } else { v as u32 });
         } else {
-            out.positions.push(mesh.positions[v]);
-            out.texcoords.push(mesh.texcoords[v]);
-            if !mesh.scalars.is_empty() {
-                out.scalars.push(mesh.scalars[v]);
-            }
+            push_vertex(&mut out, mesh, v);
             source.push(v as u32);
         }
         home.push(reference_triangle[v]);
@@ -217,13 +247,56 @@ pub fn simplify(
     })
 }
 
-/// meshoptimizer's cluster LOD DAG of one mesh: every group's error and every
-/// cluster's group, the group it was simplified from and its indices (into the
-/// mesh's vertices).
-struct ClusterDag {
-    /// Error of each group's simplified clusters (`f32::MAX` where the group is not
-    /// simplified further).
-    group_error: Vec<f32>,
+/// Appends vertex `v` of `mesh` to `out`, attributes and all.
+fn push_vertex(out: &mut SurfaceMesh, mesh: &SurfaceMesh, v: usize) {
+    out.positions.push(mesh.positions[v]);
+    out.texcoords.push(mesh.texcoords[v]);
+    if !mesh.scalars.is_empty() {
+        out.scalars.push(mesh.scalars[v]);
+    }
+}
+
+/// The triangles `indices` (flat, into `mesh`'s vertices) as a mesh of their own,
+/// holding the vertices they use with their attributes.
+pub fn submesh(mesh: &SurfaceMesh, indices: &[u32]) -> SurfaceMesh {
+    let mut out = SurfaceMesh::with_origin(mesh.origin);
+    let mut remap = vec![NONE; mesh.vertex_count()];
+    for &v in indices {
+        if remap[v as usize] == NONE {
+            remap[v as usize] = out.positions.len() as u32;
+            push_vertex(&mut out, mesh, v as usize);
+        }
+    }
+    out.triangles = remap_triangles(indices, &remap);
+    out
+}
+
+/// A sphere that holds some geometry, and the error of that geometry; in the frame of
+/// the positions meshoptimizer was given (vertical exaggeration applied).
+#[derive(Clone, Copy, Debug)]
+struct Bounds {
+    centre: [f32; 3],
+    radius: f32,
+    error: f32,
+}
+
+impl From<meshopt::ClodBounds> for Bounds {
+    fn from(b: meshopt::ClodBounds) -> Bounds {
+        Bounds {
+            centre: b.center,
+            radius: b.radius,
+            error: b.error,
+        }
+    }
+}
+
+/// meshoptimizer's cluster LOD DAG of one mesh ([`Simplifier::ClusterLod`]): every
+/// group's simplified bounds and error, and every cluster's group, the group it was
+/// simplified from and its indices (into the mesh's vertices).
+pub struct ClusterLod {
+    /// Bounds and error of each group's simplified clusters (error `f32::MAX` where
+    /// the group is not simplified further).
+    groups: Vec<Bounds>,
     clusters: Vec<Cluster>,
 }
 
@@ -231,22 +304,45 @@ struct Cluster {
     group: usize,
     /// The group whose simplification made this cluster; `None` for original ones.
     refined: Option<usize>,
+    /// A sphere around the cluster, for culling.
+    bounds: Bounds,
     indices: Vec<u32>,
 }
 
-impl ClusterDag {
-    fn build(mesh: &meshopt::ClodMesh<'_>) -> ClusterDag {
-        let mut dag = ClusterDag {
-            group_error: Vec::new(),
+impl ClusterLod {
+    /// The DAG of `mesh` with `z_scale` applied to its heights, attributes weighed as
+    /// [`Simplifier::Attributes`] weighs them.
+    pub fn build(mesh: &SurfaceMesh, z_scale: f32) -> Result<ClusterLod> {
+        let inputs = Inputs::of(mesh, z_scale)?;
+        let bytes: &[u8] = bytemuck::cast_slice(&inputs.positions);
+        let adapter =
+            VertexDataAdapter::new(bytes, 12, 0).map_err(|e| Error::Mesh(e.to_string()))?;
+        Ok(ClusterLod::of(
+            &inputs.indices,
+            &adapter,
+            &inputs.attributes,
+        ))
+    }
+
+    fn of(indices: &[u32], positions: &VertexDataAdapter<'_>, attributes: &[f32]) -> ClusterLod {
+        let mesh = meshopt::ClodMesh {
+            vertex_attributes: attributes,
+            vertex_attributes_stride: ATTRIBUTE_STRIDE,
+            attribute_weights: &WEIGHTS,
+            ..meshopt::ClodMesh::new(indices, positions)
+        };
+        let mut dag = ClusterLod {
+            groups: Vec::new(),
             clusters: Vec::new(),
         };
         let config = meshopt::clod_default_config(CLUSTER_TRIANGLES);
-        meshopt::clod_build(config, mesh, |group, clusters| {
-            let id = dag.group_error.len();
-            dag.group_error.push(group.simplified.error);
+        meshopt::clod_build(config, &mesh, |group, clusters| {
+            let id = dag.groups.len();
+            dag.groups.push(group.simplified.into());
             dag.clusters.extend(clusters.iter().map(|c| Cluster {
                 group: id,
                 refined: usize::try_from(c.refined).ok(),
+                bounds: c.bounds.into(),
                 indices: c.indices.to_vec(),
             }));
             id as i32
@@ -254,39 +350,74 @@ impl ClusterDag {
         dag
     }
 
-    /// Whether a renderer whose error threshold is `t` draws `cluster`: its group's
-    /// simplification is too coarse for `t`, the one that made it is not.
-    fn drawn(&self, cluster: &Cluster, t: f32) -> bool {
-        self.group_error[cluster.group] > t
-            && cluster.refined.is_none_or(|g| self.group_error[g] <= t)
-    }
-
-    fn triangles_at(&self, t: f32) -> usize {
+    /// The indices of the clusters a renderer draws when `too_coarse` says which
+    /// groups' simplified clusters it cannot use: those whose group is too coarse and
+    /// whose maker (if any) is not, and for which `shown` holds.
+    fn cut(
+        &self,
+        too_coarse: impl Fn(&Bounds) -> bool,
+        shown: impl Fn(&Bounds) -> bool,
+    ) -> Vec<u32> {
+        let coarse: Vec<bool> = self.groups.iter().map(&too_coarse).collect();
         self.clusters
             .iter()
-            .filter(|c| self.drawn(c, t))
-            .map(|c| c.indices.len() / 3)
-            .sum()
+            .filter(|c| coarse[c.group] && c.refined.is_none_or(|g| !coarse[g]) && shown(&c.bounds))
+            .flat_map(|c| c.indices.iter().copied())
+            .collect()
     }
 
-    /// The indices of the finest cut with at most `target` triangles (the coarsest
-    /// cut when none has so few), and its error threshold.
-    fn cut_within(&self, target: usize) -> (Vec<u32>, f32) {
+    /// The indices of the finest cut at one error threshold with at most `target`
+    /// triangles (the coarsest cut when none has so few), and that threshold.
+    pub fn cut_within(&self, target: usize) -> (Vec<u32>, f32) {
         let mut errors: Vec<f32> = std::iter::once(0.0)
-            .chain(self.group_error.iter().copied().filter(|e| *e < f32::MAX))
+            .chain(
+                self.groups
+                    .iter()
+                    .map(|g| g.error)
+                    .filter(|e| *e < f32::MAX),
+            )
             .collect();
         errors.sort_by(f32::total_cmp);
         errors.dedup();
+        let at = |t: f32| self.cut(|g| g.error > t, |_| true);
         // Triangles drawn only fall as the threshold rises.
-        let first_within = errors.partition_point(|&t| self.triangles_at(t) > target);
+        let first_within = errors.partition_point(|&t| at(t).len() / 3 > target);
         let t = errors[first_within.min(errors.len() - 1)];
-        let indices = self
-            .clusters
-            .iter()
-            .filter(|c| self.drawn(c, t))
-            .flat_map(|c| c.indices.iter().copied())
-            .collect();
-        (indices, t)
+        (at(t), t)
+    }
+
+    /// The indices of the clusters drawn from `eye` (in the frame of the positions,
+    /// vertical exaggeration applied) where a length `e` at distance `d` covers
+    /// `e * focal / d` pixels, with no group's projected error above `max_pixels`;
+    /// clusters wholly outside one of the planes of `frustum` (as
+    /// `strata_render::Camera::frustum` gives them) are left out.
+    pub fn cut_in_view(
+        &self,
+        eye: [f32; 3],
+        focal: f64,
+        max_pixels: f64,
+        frustum: Option<&[[f32; 4]; 5]>,
+    ) -> Vec<u32> {
+        let distance = |b: &Bounds| {
+            let d2: f32 = (0..3).map(|a| (b.centre[a] - eye[a]).powi(2)).sum();
+            f64::from(d2.sqrt() - b.radius)
+        };
+        let too_coarse = |b: &Bounds| {
+            b.error == f32::MAX || {
+                let d = distance(b);
+                d <= 0.0 || f64::from(b.error) * focal / d > max_pixels
+            }
+        };
+        let shown = |b: &Bounds| {
+            frustum.is_none_or(|planes| {
+                planes.iter().all(|p| {
+                    let along: f32 = (0..3).map(|a| p[a] * b.centre[a]).sum::<f32>() + p[3];
+                    let norm = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
+                    along >= -b.radius * norm
+                })
+            })
+        };
+        self.cut(too_coarse, shown)
     }
 }
 
@@ -428,6 +559,57 @@ mod tests {
         let all = simplify(&mesh, Simplifier::ClusterLod, mesh.triangle_count(), 1.0).unwrap();
         assert_eq!(all.mesh.triangle_count(), mesh.triangle_count());
         assert_eq!(all.error, 0.0);
+    }
+
+    #[test]
+    fn a_cluster_lod_view_cut_is_finer_near_the_eye_and_covers_the_surface() {
+        let mesh = SurfaceMesh::structured(120, 80, |i, j| {
+            [
+                i as f32 * 10.0,
+                j as f32 * 10.0,
+                ((i as f32) * 0.1).sin() * 20.0 + ((j as f32) * 0.15).cos() * 10.0,
+            ]
+        });
+        let dag = ClusterLod::build(&mesh, 1.0).unwrap();
+        let whole = plan_area(&mesh);
+        let triangles_near = |cut: &SurfaceMesh, near: bool| {
+            cut.triangles
+                .iter()
+                .filter(|t| {
+                    let x = t.iter().map(|&v| cut.positions[v as usize][0]).sum::<f32>() / 3.0;
+                    (x < 300.0) == near
+                })
+                .count()
+        };
+        let close = submesh(&mesh, &dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, None));
+        let far = submesh(&mesh, &dag.cut_in_view([600.0, 400.0, 1e7], 1000.0, 1.0, None));
+        for cut in [&close, &far] {
+            cut.validate().unwrap();
+            assert!((plan_area(cut) - whole).abs() < 1e-3 * whole);
+        }
+        // From far above the coarsest cut is enough; from the side at x = 0 the cells
+        // near the eye are kept finer than those beyond.
+        assert_eq!(far.triangle_count(), dag.cut_within(0).0.len() / 3);
+        assert!(close.triangle_count() > 4 * far.triangle_count());
+        // Density per unit of plan area: the near part is a quarter of the surface.
+        let (near, beyond) = (triangles_near(&close, true), triangles_near(&close, false));
+        assert!(near > beyond / 3 * 2, "{near} triangles near the eye, {beyond} beyond");
+        // A frustum that looks away from half the surface leaves its clusters out.
+        let left_half = [[-1.0, 0.0, 0.0, 600.0]; 5];
+        let culled = dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, Some(&left_half));
+        let all = dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, None);
+        assert!(culled.len() < all.len());
+        // ... and keeps every triangle that reaches into the half it looks at.
+        let inside = |indices: &[u32]| -> Vec<[u32; 3]> {
+            let mut t: Vec<[u32; 3]> = indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]])
+                .filter(|t| t.iter().any(|&v| mesh.positions[v as usize][0] <= 600.0))
+                .collect();
+            t.sort_unstable();
+            t
+        };
+        assert_eq!(inside(&culled), inside(&all));
     }
 
     #[test]
