@@ -57,6 +57,9 @@ enum BenchCommand {
         /// 10 % only, one view, the smallest generated layer.
         #[arg(long)]
         quick: bool,
+        /// Also write the frames of the hierarchy comparison as PNG into this folder.
+        #[arg(long)]
+        images: Option<PathBuf>,
     },
     /// Frame times of every wireframe technique against the shaded surface alone, in
     /// retained and immediate mode (Celes & Abraham's Tables 3 and 2).
@@ -107,7 +110,12 @@ fn main() -> ExitCode {
         Command::Terrain(args) => cli::terrain::run(&args),
         Command::Lod(command) => cli::lod::run(&command),
         Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
-        Command::Bench(BenchCommand::Lod { json, data, quick }) => bench_lod(json, data, quick),
+        Command::Bench(BenchCommand::Lod {
+            json,
+            data,
+            quick,
+            images,
+        }) => bench_lod(json, data, quick, images),
         Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
         Command::Bench(BenchCommand::Wire {
             json,
@@ -177,10 +185,16 @@ fn message(e: &anyhow::Error) -> String {
     out
 }
 
-fn bench_lod(json: bool, data: Option<PathBuf>, quick: bool) -> anyhow::Result<()> {
+fn bench_lod(
+    json: bool,
+    data: Option<PathBuf>,
+    quick: bool,
+    images: Option<PathBuf>,
+) -> anyhow::Result<()> {
     use strata::bench::lod;
     let data = data.unwrap_or_else(lod::default_data);
-    let report = lod::run(&data, if quick { &lod::QUICK } else { &lod::FULL })?;
+    let config = if quick { &lod::QUICK } else { &lod::FULL };
+    let report = lod::run(&data, config, images.as_deref())?;
     if json {
         println!("{}", serde_json::to_string_pretty(&report)?);
     } else {

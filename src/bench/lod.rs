@@ -42,6 +42,12 @@
 //! simplify (rows over the budget are not compared with ours); its speed rows time
 //! building the whole DAG, every level, where the simplifiers make one.
 //!
+//! Hierarchies: on a generated layer of about 0.5 (quick) or 2 million triangles a
+//! surface, `strata lod build`'s tiled quadtree against the clusterlod DAG, both cut
+//! at 1 px of projected error from the fidelity views and a close-up: triangles
+//! stored and drawn, build CPU time, line-pixel F1 and RMS colour against the
+//! full-resolution surface; `--images DIR` writes those frames.
+//!
 //! Speed: input triangles per second for ours and each meshopt simplifier at 10 %,
 //! on the real models and on generated faulted layers of about 0.5, 2 and 8 million
 //! triangles, all in one thread (so per core; decimation itself is sequential) and ours
@@ -59,9 +65,12 @@ use anyhow::Result;
 use serde::Serialize;
 use strata_grid::synth::{SynthParams, generate};
 use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface};
-use strata_lod::baseline::{Simplifier, simplify};
+use strata_lod::baseline::{ClusterLod, Simplifier, simplify, submesh};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
-use strata_lod::{CellCover, Decimated, Maker, Options, Placement, decimate, decimate_chosen};
+use strata_lod::{
+    BuildOptions, CellCover, Decimated, LodFile, Maker, Options, Placement, ViewPoint, build_file,
+    decimate, decimate_chosen,
+};
 use strata_render::glam::Vec3;
 use strata_render::{Camera, CellDraw, Renderer, Style, TiledCells, View, WireMode};
 
@@ -79,12 +88,15 @@ pub struct Config {
     pub views: &'static [(f32, f32)],
     /// Triangle counts of the generated layers.
     pub generated: &'static [usize],
+    /// Triangle counts of the generated layers whose hierarchies are compared.
+    pub hierarchy: &'static [usize],
 }
 
 pub const FULL: Config = Config {
     budgets: &[50.0, 20.0, 10.0, 5.0, 2.0],
     views: &[(30.0, 35.0), (210.0, 60.0)],
     generated: &[500_000, 2_000_000, 8_000_000],
+    hierarchy: &[2_000_000],
 };
 
 /// A few minutes: 10 % only, one view, the smallest generated layer.
@@ -92,6 +104,7 @@ pub const QUICK: Config = Config {
     budgets: &[10.0],
     views: &[(30.0, 35.0)],
     generated: &[500_000],
+    hierarchy: &[500_000],
 };
 
 /// The speed goal is checked on inputs of at least this many triangles: below, a run
@@ -118,6 +131,7 @@ pub struct LodReport {
     pub outlines: Vec<Outline>,
     pub fidelity: Vec<Fidelity>,
     pub speed: Vec<Speed>,
+    pub hierarchy: Vec<HierarchyRow>,
     pub goals: Vec<Goal>,
     /// Peak resident memory of the run (VmHWM), MB.
     pub peak_memory_mb: f64,
@@ -202,6 +216,37 @@ pub struct Speed {
     pub triangles_per_cpu_s: f64,
     /// Our stages, seconds summed over the layer surfaces (ours only).
     pub stages: Option<Stages>,
+}
+
+/// One generated layer's top surface, drawn through a hierarchy.
+#[derive(Debug, Serialize)]
+pub struct HierarchyRow {
+    pub input: String,
+    /// `strata` (`strata lod build`'s tiled quadtree) or `meshopt_clusterlod`.
+    pub hierarchy: String,
+    /// Full-resolution triangles of the surface.
+    pub triangles: usize,
+    /// Triangles over all levels.
+    pub stored_triangles: usize,
+    /// CPU seconds (all threads) of building, over the surfaces built: ours builds
+    /// the layer's top and bottom as `lod build` does, clusterlod the top alone.
+    pub build_cpu_seconds: f64,
+    pub built_triangles: usize,
+    pub views: Vec<HierarchyView>,
+}
+
+/// What one hierarchy draws from one view at [`HIERARCHY_PIXELS`].
+#[derive(Debug, Serialize)]
+pub struct HierarchyView {
+    pub view: String,
+    /// Line pixels of the full-resolution surface from this view: where they cover
+    /// most of the surface (a whole view of a large layer), F1 says little.
+    pub line_pixels: usize,
+    pub drawn_triangles: usize,
+    /// Line pixels against the full-resolution surface's, as in [`Fidelity`].
+    pub f1: f64,
+    pub f1_strict: f64,
+    pub rms_colour: f64,
 }
 
 #[derive(Debug, Default, Serialize)]
@@ -506,12 +551,24 @@ impl Scene {
         Some(Scene { views, range })
     }
 
-    /// Frames of `mesh`, drawn against the original's `cells` when given.
+    /// Frames of `mesh` from the scene's views, drawn against the original's `cells`
+    /// when given.
     fn draw(
         &self,
         renderer: &mut Renderer,
         mesh: &SurfaceMesh,
         cells: Option<&CellDraw>,
+    ) -> Result<Vec<Frames>> {
+        self.draw_from(renderer, mesh, cells, &self.views)
+    }
+
+    /// Frames of `mesh` from `views`, in the scene's colours.
+    fn draw_from(
+        &self,
+        renderer: &mut Renderer,
+        mesh: &SurfaceMesh,
+        cells: Option<&CellDraw>,
+        views: &[View],
     ) -> Result<Vec<Frames>> {
         let drawable = match cells {
             Some(cells) => renderer.prepare_cells(mesh, cells)?,
@@ -522,7 +579,7 @@ impl Scene {
             * (0.299 * f64::from(solid[0])
                 + 0.587 * f64::from(solid[1])
                 + 0.114 * f64::from(solid[2]));
-        self.views
+        views
             .iter()
             .map(|view| {
                 let lines = renderer.render(
@@ -551,8 +608,9 @@ impl Scene {
     }
 }
 
-/// Runs the benchmark on the models of `data_dir` (skipped, with a note, when absent).
-pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
+/// Runs the benchmark on the models of `data_dir` (skipped, with a note, when absent);
+/// with `images`, writes the frames of the hierarchy comparison there as PNG.
+pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<LodReport> {
     let mut renderer = Renderer::headless()?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut notes = vec![format!(
@@ -782,16 +840,8 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
     // Speed: real models (all layer surfaces) and generated layers.
     let mut inputs: Vec<(String, Vec<SurfaceMesh>)> = models;
     for &n in config.generated {
-        let side = ((n as f64 / 2.0).sqrt().round() as usize).max(2);
-        let grid = generate(&SynthParams {
-            nx: side,
-            ny: side,
-            nz: 1,
-            faults: 6,
-            seed: 5,
-        })?;
-        let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin())?;
-        inputs.push((format!("generated {side}x{side}"), vec![mesh]));
+        let (label, grid) = generated_layer(n)?;
+        inputs.push((label, vec![top_surface(&grid)?]));
     }
     for (label, layers) in &inputs {
         let triangles: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
@@ -874,6 +924,7 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
         }
     }
 
+    let hierarchy = compare_hierarchies(&mut renderer, config, images)?;
     let goals = goals(&fidelity, &speed);
     notes.push(format!(
         "load average at end: {}",
@@ -892,10 +943,230 @@ pub fn run(data_dir: &Path, config: &Config) -> Result<LodReport> {
         outlines,
         fidelity,
         speed,
+        hierarchy,
         goals,
         peak_memory_mb: peak_memory_kb().map_or(f64::NAN, |kb| kb as f64 / 1e3),
         notes,
     })
+}
+
+/// A generated faulted layer of about `n` triangles a surface, and its label.
+fn generated_layer(n: usize) -> Result<(String, CornerPointGrid)> {
+    let side = ((n as f64 / 2.0).sqrt().round() as usize).max(2);
+    let grid = generate(&SynthParams {
+        nx: side,
+        ny: side,
+        nz: 1,
+        faults: 6,
+        seed: 5,
+    })?;
+    Ok((format!("generated {side}x{side}"), grid))
+}
+
+/// The top surface of a generated layer, coloured by PORO.
+fn top_surface(grid: &CornerPointGrid) -> Result<SurfaceMesh> {
+    Ok(layer_surface(
+        grid,
+        0,
+        Face::Top,
+        Some("PORO"),
+        grid.display_origin(),
+    )?)
+}
+
+/// The largest projected error both hierarchies are cut at: `strata lod view`'s
+/// default.
+const HIERARCHY_PIXELS: f32 = 1.0;
+
+/// The close-up of the hierarchy comparison is the whole view's distance times this
+/// over the cells across the layer.
+const CLOSE_UP_CELLS: f32 = 75.0;
+
+/// Our tiled hierarchy against meshoptimizer's cluster LOD on generated layers. Each
+/// is built, then cut at [`HIERARCHY_PIXELS`] from the fidelity views of the whole
+/// layer and from a close-up over its middle, nodes or clusters outside the view left
+/// out; the rows give the triangles drawn and the line-pixel F1 and RMS colour against
+/// the full-resolution top surface from the same view. The two measure error apart
+/// (ours the largest distance to the original surface, clusterlod meshoptimizer's
+/// quadric error), so clusterlod is also cut at the projected error that draws as many
+/// triangles as ours from each view (`meshopt_clusterlod_same_triangles`). With
+/// `images`, the shaded frames go there as PNG.
+fn compare_hierarchies(
+    renderer: &mut Renderer,
+    config: &Config,
+    images: Option<&Path>,
+) -> Result<Vec<HierarchyRow>> {
+    if let Some(dir) = images {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut rows = Vec::new();
+    for &n in config.hierarchy {
+        let (label, grid) = generated_layer(n)?;
+        let top = top_surface(&grid)?;
+        let Some(mut scene) = Scene::new(&top, config) else {
+            continue;
+        };
+        let aspect = WIDTH as f32 / HEIGHT as f32;
+        let (lo, hi) = scene.views[0].bounds;
+        // Near enough that the nearest cells span several pixels whatever the layer's
+        // size (the whole views of a large layer show no line: they fade out).
+        let zoom = (CLOSE_UP_CELLS / grid.dims().nx as f32).min(1.0);
+        let close = Camera::fit_points(
+            top.positions.iter().map(|&p| Vec3::from(p)),
+            Z_SCALE,
+            aspect,
+            (30.0, 20.0),
+            zoom,
+        )
+        .centred_on((lo + hi) / 2.0);
+        scene.views.push(View {
+            camera: close,
+            ..scene.views[0]
+        });
+        let mut names: Vec<String> = config
+            .views
+            .iter()
+            .map(|(az, el)| format!("{az},{el} whole"))
+            .collect();
+        names.push(format!("30,20 close-up x{zoom:.3}"));
+        let reference = scene.draw(renderer, &top, None)?;
+
+        let dir = tempfile::tempdir()?;
+        let path = dir.path().join("layer.lod");
+        let before = cpu_times();
+        let report = build_file(&grid, Some("PORO"), &path, &BuildOptions::default())?;
+        let ours_cpu = cpu_since(before);
+        let file = LodFile::open(&path)?;
+        let before = cpu_times();
+        let dag = ClusterLod::build(&top, Z_SCALE)?;
+        let theirs_cpu = cpu_since(before);
+
+        let mut ours = Vec::new();
+        let mut theirs = Vec::new();
+        let mut theirs_matched = Vec::new();
+        for (v, view) in scene.views.iter().enumerate() {
+            let camera = &view.camera;
+            let frustum = camera.frustum(aspect);
+            let point = ViewPoint {
+                eye: camera.eye.to_array(),
+                z_scale: Z_SCALE,
+                fov_y_deg: camera.fov_y_deg,
+                height_px: HEIGHT,
+                frustum: Some(frustum),
+            };
+            let chosen: Vec<u32> = file
+                .select(&point, HIERARCHY_PIXELS)
+                .into_iter()
+                .filter(|&i| file.nodes()[i as usize].layer == 0)
+                .collect();
+            let focal =
+                f64::from(HEIGHT) / (2.0 * (f64::from(camera.fov_y_deg).to_radians() / 2.0).tan());
+            let cut =
+                |pixels: f64| dag.cut_in_view(camera.eye.to_array(), focal, pixels, Some(&frustum));
+            let selection = file.selection_mesh(&chosen)?;
+            if let Some(dir) = images {
+                save_frame(dir, &format!("{label}_view{v}_full"), &reference[v].shaded)?;
+            }
+            let matched = pixels_for_triangles(cut, selection.triangle_count());
+            for (mesh, out, name) in [
+                (selection, &mut ours, "strata"),
+                (
+                    submesh(&top, &cut(f64::from(HIERARCHY_PIXELS))),
+                    &mut theirs,
+                    "clusterlod",
+                ),
+                (
+                    submesh(&top, &cut(matched)),
+                    &mut theirs_matched,
+                    "clusterlod_same",
+                ),
+            ] {
+                let frames = scene.draw_from(renderer, &mesh, None, std::slice::from_ref(view))?;
+                let (got, want) = (&frames[0], &reference[v]);
+                if let Some(dir) = images {
+                    save_frame(dir, &format!("{label}_view{v}_{name}"), &got.shaded)?;
+                }
+                out.push(HierarchyView {
+                    view: names[v].clone(),
+                    line_pixels: want.lines.iter().filter(|&&l| l).count(),
+                    drawn_triangles: mesh.triangle_count(),
+                    f1: f1(&got.lines, &want.lines, WIDTH as usize, 1).2,
+                    f1_strict: f1(&got.lines, &want.lines, WIDTH as usize, 0).2,
+                    rms_colour: rms_colour(&got.shaded, &want.shaded),
+                });
+            }
+        }
+        for (name, stored, cpu, built, views) in [
+            (
+                "strata",
+                report.stored_triangles,
+                ours_cpu,
+                report.input_triangles,
+                ours,
+            ),
+            (
+                "meshopt_clusterlod",
+                dag.stored_triangles(),
+                theirs_cpu,
+                top.triangle_count(),
+                theirs,
+            ),
+            (
+                "meshopt_clusterlod_same_triangles",
+                dag.stored_triangles(),
+                theirs_cpu,
+                top.triangle_count(),
+                theirs_matched,
+            ),
+        ] {
+            for v in &views {
+                eprintln!(
+                    "  {label} {name:<34} {:<22} {:>9} triangles drawn, F1 {:.3} (strict {:.3}) of {} line pixels, RMS colour {:.2}",
+                    v.view, v.drawn_triangles, v.f1, v.f1_strict, v.line_pixels, v.rms_colour
+                );
+            }
+            rows.push(HierarchyRow {
+                input: label.clone(),
+                hierarchy: name.to_string(),
+                triangles: top.triangle_count(),
+                stored_triangles: stored,
+                build_cpu_seconds: cpu,
+                built_triangles: built,
+                views,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// The projected error at which `cut` (indices at a largest error in pixels) draws
+/// the most triangles not above `triangles`: triangles only fall as the error rises.
+fn pixels_for_triangles(cut: impl Fn(f64) -> Vec<u32>, triangles: usize) -> f64 {
+    let (mut fine, mut coarse) = (1e-3f64, 1e6f64);
+    for _ in 0..40 {
+        let mid = (fine * coarse).sqrt();
+        if cut(mid).len() / 3 > triangles {
+            fine = mid;
+        } else {
+            coarse = mid;
+        }
+    }
+    coarse
+}
+
+/// Writes a frame of [`WIDTH`] x [`HEIGHT`] RGBA bytes to `dir/name.png`.
+fn save_frame(dir: &Path, name: &str, rgba: &[u8]) -> Result<()> {
+    let frame = strata_render::image::RgbaImage::from_raw(WIDTH, HEIGHT, rgba.to_vec())
+        .ok_or_else(|| anyhow::anyhow!("{name}: a frame of the wrong size"))?;
+    let name = name.replace([' ', ','], "_");
+    strata_render::save_png(&frame, &dir.join(format!("{name}.png")))?;
+    Ok(())
+}
+
+/// CPU seconds (user and system) this process spent since `before` ([`cpu_times`]).
+fn cpu_since(before: (f64, f64)) -> f64 {
+    let now = cpu_times();
+    now.0 - before.0 + now.1 - before.1
 }
 
 /// The goals: at 10 %, F1 >= 0.95 on every real model and at least the best
@@ -1047,6 +1318,37 @@ pub fn print_table(report: &LodReport) {
         }
     }
     println!();
+    println!(
+        "{:<22} {:<34} {:>9} {:>9} {:>9} {:<24} {:>9} {:>9} {:>7} {:>7}",
+        "hierarchy input",
+        "hierarchy",
+        "stored",
+        "build s",
+        "M/CPU s",
+        "view",
+        "drawn",
+        "lines",
+        "F1",
+        "RMS col"
+    );
+    for h in &report.hierarchy {
+        for v in &h.views {
+            println!(
+                "{:<22} {:<34} {:>9} {:>9.2} {:>9.2} {:<24} {:>9} {:>9} {:>7.3} {:>7.2}",
+                h.input,
+                h.hierarchy,
+                h.stored_triangles,
+                h.build_cpu_seconds,
+                h.built_triangles as f64 / h.build_cpu_seconds / 1e6,
+                v.view,
+                v.drawn_triangles,
+                v.line_pixels,
+                v.f1,
+                v.rms_colour
+            );
+        }
+    }
+    println!();
     for g in &report.goals {
         println!(
             "{} {}: {:.3} (goal {:.3})",
@@ -1142,6 +1444,24 @@ mod tests {
             .find(|g| g.goal.contains("best meshopt"))
             .expect("the comparison goal");
         assert_eq!((against.threshold, against.met), (0.95, false));
+    }
+
+    #[test]
+    fn the_error_matching_a_triangle_count_draws_at_most_that_many() {
+        // Cuts in steps, as a DAG's are: 500 triangles below 2 px, 200 below 5, 90
+        // below 20, then 10.
+        let cut = |pixels: f64| {
+            let triangles = [(2.0, 500), (5.0, 200), (20.0, 90)]
+                .iter()
+                .find(|(below, _)| pixels < *below)
+                .map_or(10, |&(_, n)| n);
+            vec![0u32; 3 * triangles]
+        };
+        let pixels = pixels_for_triangles(cut, 100);
+        assert_eq!(cut(pixels).len() / 3, 90);
+        assert!((5.0..5.001).contains(&pixels), "{pixels}");
+        assert_eq!(cut(pixels_for_triangles(cut, 600)).len() / 3, 500);
+        assert_eq!(cut(pixels_for_triangles(cut, 5)).len() / 3, 10);
     }
 
     #[test]
