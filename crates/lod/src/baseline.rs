@@ -350,6 +350,11 @@ impl ClusterLod {
         dag
     }
 
+    /// Triangles over every cluster of every level.
+    pub fn stored_triangles(&self) -> usize {
+        self.clusters.iter().map(|c| c.indices.len() / 3).sum()
+    }
+
     /// The indices of the clusters a renderer draws when `too_coarse` says which
     /// groups' simplified clusters it cannot use: those whose group is too coarse and
     /// whose maker (if any) is not, and for which `shown` holds.
@@ -525,15 +530,20 @@ mod tests {
             .sum()
     }
 
-    #[test]
-    fn a_cluster_lod_cut_covers_the_surface_within_its_budget() {
-        let mesh = SurfaceMesh::structured(120, 80, |i, j| {
+    /// 120 x 80 cells of 10 m over gentle hills: 19 200 triangles.
+    fn rolling() -> SurfaceMesh {
+        SurfaceMesh::structured(120, 80, |i, j| {
             [
                 i as f32 * 10.0,
                 j as f32 * 10.0,
                 ((i as f32) * 0.1).sin() * 20.0 + ((j as f32) * 0.15).cos() * 10.0,
             ]
-        });
+        })
+    }
+
+    #[test]
+    fn a_cluster_lod_cut_covers_the_surface_within_its_budget() {
+        let mesh = rolling();
         let whole = plan_area(&mesh);
         let mut last = usize::MAX;
         for target in [19_000, 5_000, 2_000, 800] {
@@ -563,13 +573,7 @@ mod tests {
 
     #[test]
     fn a_cluster_lod_view_cut_is_finer_near_the_eye_and_covers_the_surface() {
-        let mesh = SurfaceMesh::structured(120, 80, |i, j| {
-            [
-                i as f32 * 10.0,
-                j as f32 * 10.0,
-                ((i as f32) * 0.1).sin() * 20.0 + ((j as f32) * 0.15).cos() * 10.0,
-            ]
-        });
+        let mesh = rolling();
         let dag = ClusterLod::build(&mesh, 1.0).unwrap();
         let whole = plan_area(&mesh);
         let triangles_near = |cut: &SurfaceMesh, near: bool| {
@@ -581,8 +585,14 @@ mod tests {
                 })
                 .count()
         };
-        let close = submesh(&mesh, &dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, None));
-        let far = submesh(&mesh, &dag.cut_in_view([600.0, 400.0, 1e7], 1000.0, 1.0, None));
+        let close = submesh(
+            &mesh,
+            &dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, None),
+        );
+        let far = submesh(
+            &mesh,
+            &dag.cut_in_view([600.0, 400.0, 1e7], 1000.0, 1.0, None),
+        );
         for cut in [&close, &far] {
             cut.validate().unwrap();
             assert!((plan_area(cut) - whole).abs() < 1e-3 * whole);
@@ -593,7 +603,10 @@ mod tests {
         assert!(close.triangle_count() > 4 * far.triangle_count());
         // Density per unit of plan area: the near part is a quarter of the surface.
         let (near, beyond) = (triangles_near(&close, true), triangles_near(&close, false));
-        assert!(near > beyond / 3 * 2, "{near} triangles near the eye, {beyond} beyond");
+        assert!(
+            near > beyond / 3 * 2,
+            "{near} triangles near the eye, {beyond} beyond"
+        );
         // A frustum that looks away from half the surface leaves its clusters out.
         let left_half = [[-1.0, 0.0, 0.0, 600.0]; 5];
         let culled = dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, Some(&left_half));
