@@ -222,15 +222,17 @@ pub struct Speed {
 #[derive(Debug, Serialize)]
 pub struct HierarchyRow {
     pub input: String,
-    /// `strata` (`strata lod build`'s tiled quadtree) or `meshopt_clusterlod`.
+    /// `strata` (`strata lod build`'s tiled quadtree), `meshopt_clusterlod`, or
+    /// `meshopt_clusterlod_same_triangles` (its cut at as many triangles as ours).
     pub hierarchy: String,
-    /// Full-resolution triangles of the surface.
+    /// Full-resolution triangles of the top surface.
     pub triangles: usize,
-    /// Triangles over all levels.
+    /// Triangles over all levels of the surfaces built: ours builds the layer's top
+    /// and bottom as `lod build` does, clusterlod the top alone.
     pub stored_triangles: usize,
-    /// CPU seconds of building on one thread, over the surfaces built: ours builds
-    /// the layer's top and bottom as `lod build` does, clusterlod the top alone.
+    /// CPU seconds of building them on one thread.
     pub build_cpu_seconds: f64,
+    /// Full-resolution triangles of the surfaces built.
     pub built_triangles: usize,
     pub views: Vec<HierarchyView>,
 }
