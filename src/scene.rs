@@ -228,6 +228,64 @@ pub fn build_part(
     })
 }
 
+/// Rows of cells of one piece of [`build_part_on_all_cores`].
+const ROWS_PER_PIECE: usize = 64;
+
+/// [`build_part`] for drawing, on all cores: a part's top and bottom surfaces are
+/// built in pieces of [`ROWS_PER_PIECE`] rows of one layer, in parallel, and put
+/// together in order. The faces, their order and every corner's position, texture
+/// coordinates and value are those of [`build_part`]; only the nodes on the seams
+/// between pieces get a vertex in each piece, which changes no pixel. A part holds a
+/// few layers, so building it a layer a thread had kept two of the H200 machine's 16
+/// cores busy: 11.6 of a 14.2 s frame of a 185 M-triangle model went to it.
+pub fn build_part_on_all_cores(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+    part: &Part,
+    origin: [f64; 3],
+    columns: &Columns,
+) -> Result<SurfaceMesh> {
+    build_part_in_pieces(grid, options, part, origin, columns, ROWS_PER_PIECE)
+}
+
+fn build_part_in_pieces(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+    part: &Part,
+    origin: [f64; 3],
+    columns: &Columns,
+    rows_per_piece: usize,
+) -> Result<SurfaceMesh> {
+    let (layers, face, rows) = match part {
+        Part::Tops(run) => (run.clone(), Face::Top, columns.j.clone()),
+        Part::Band { layer, face, rows } => {
+            (*layer..*layer + 1, *face, columns.in_rows(rows.clone()).j)
+        }
+        Part::Bottom(k) => (*k..*k + 1, Face::Bottom, columns.j.clone()),
+        Part::Sides(_) => return build_part(grid, options, part, origin, columns),
+    };
+    let pieces: Vec<Part> = layers
+        .flat_map(|layer| {
+            rows.clone()
+                .step_by(rows_per_piece.max(1))
+                .map(move |start| Part::Band {
+                    layer,
+                    face,
+                    rows: start..(start + rows_per_piece).min(rows.end),
+                })
+        })
+        .collect();
+    let meshes = pieces
+        .par_iter()
+        .map(|piece| build_part(grid, options, piece, origin, columns))
+        .collect::<Result<Vec<_>>>()?;
+    let mut mesh = SurfaceMesh::with_origin(origin);
+    for m in &meshes {
+        mesh.append(m);
+    }
+    Ok(mesh)
+}
+
 /// Where a scene drawn in parts lies, found before any part is drawn: the framing of
 /// all its vertices, its triangles, and the box of each tile of columns of its
 /// faces, which says what of each layer a close-up needs.
@@ -553,6 +611,70 @@ mod tests {
             seed: 3,
         })
         .expect("a generated grid")
+    }
+
+    /// Per triangle corner, in order: position, texture coordinates and value.
+    fn corners(mesh: &SurfaceMesh) -> Vec<([f32; 3], [f32; 2], Option<u32>)> {
+        mesh.triangles
+            .iter()
+            .flatten()
+            .map(|&v| {
+                let v = v as usize;
+                let value = mesh.scalars.get(v).map(|s| s.to_bits());
+                (mesh.positions[v], mesh.texcoords[v], value)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_part_built_in_pieces_has_the_faces_and_corners_of_the_part_built_whole() {
+        let grid = faulted();
+        let origin = grid.display_origin();
+        let all = Columns::all(grid.dims());
+        let close = Columns {
+            i: 10..50,
+            j: 5..40,
+        };
+        for (property, flat_cells) in [(None, false), (Some("PORO"), false), (Some("PORO"), true)] {
+            let options = SceneOptions {
+                sides: true,
+                property: property.map(str::to_string),
+                flat_cells,
+                ..SceneOptions::default()
+            };
+            // Parts of a few layers, and bands of a layer too large for a part.
+            let parts: Vec<Part> = [10_000, 900]
+                .iter()
+                .flat_map(|&cells| parts(&grid, &options, cells).expect("the parts"))
+                .collect();
+            assert!(
+                parts
+                    .iter()
+                    .any(|p| matches!(p, Part::Tops(run) if run.len() > 1))
+            );
+            assert!(parts.iter().any(|p| matches!(p, Part::Band { .. })));
+            for part in &parts {
+                for columns in [&all, &close] {
+                    let whole = build_part(&grid, &options, part, origin, columns).expect("a part");
+                    let pieces = build_part_in_pieces(&grid, &options, part, origin, columns, 7)
+                        .expect("a part in pieces");
+                    assert_eq!(faces(&pieces), faces(&whole), "{part:?}");
+                    assert_eq!(corners(&pieces), corners(&whole), "{part:?}");
+                    assert_eq!(
+                        pieces
+                            .cell_faces
+                            .iter()
+                            .map(|f| f.value.to_bits())
+                            .collect::<Vec<_>>(),
+                        whole
+                            .cell_faces
+                            .iter()
+                            .map(|f| f.value.to_bits())
+                            .collect::<Vec<_>>()
+                    );
+                }
+            }
+        }
     }
 
     /// The cells and corners of `mesh`'s faces, in order.

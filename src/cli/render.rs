@@ -402,7 +402,9 @@ fn draw_in_parts(
     let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
         for part in queue.by_ref() {
             bar.inc(1);
-            let mesh = in_view(scene::build_part(grid, options, part, origin, &columns)?);
+            let mesh = in_view(scene::build_part_on_all_cores(
+                grid, options, part, origin, &columns,
+            )?);
             if mesh.triangle_count() == 0 {
                 continue;
             }
@@ -410,7 +412,13 @@ fn draw_in_parts(
             triangles += mesh.triangle_count();
             let drawable = match &iso {
                 Some((smooth_options, _)) => {
-                    let smooth = scene::build_part(grid, smooth_options, part, origin, &columns)?;
+                    let smooth = scene::build_part_on_all_cores(
+                        grid,
+                        smooth_options,
+                        part,
+                        origin,
+                        &columns,
+                    )?;
                     let smooth = in_view(smooth);
                     let field = corner_field(options, &smooth, &mesh)?;
                     let iso_options = IsolineOptions {
