@@ -1052,23 +1052,19 @@ fn compare_hierarchies(
         let mut theirs_matched = Vec::new();
         for (v, view) in scene.views.iter().enumerate() {
             let camera = &view.camera;
-            let frustum = camera.frustum(aspect);
             let point = ViewPoint {
                 eye: camera.eye.to_array(),
                 z_scale: Z_SCALE,
                 fov_y_deg: camera.fov_y_deg,
                 height_px: HEIGHT,
-                frustum: Some(frustum),
+                frustum: Some(camera.frustum(aspect)),
             };
             let chosen: Vec<u32> = file
                 .select(&point, HIERARCHY_PIXELS)
                 .into_iter()
                 .filter(|&i| file.nodes()[i as usize].layer == 0)
                 .collect();
-            let focal =
-                f64::from(HEIGHT) / (2.0 * (f64::from(camera.fov_y_deg).to_radians() / 2.0).tan());
-            let cut =
-                |pixels: f64| dag.cut_in_view(camera.eye.to_array(), focal, pixels, Some(&frustum));
+            let cut = |pixels: f64| dag.cut_in_view(&point, pixels);
             let selection = file.selection_mesh(&chosen)?;
             if let Some(dir) = images {
                 save_frame(dir, &format!("{label}_view{v}_full"), &reference[v].shaded)?;

@@ -20,7 +20,7 @@ use strata_grid::SurfaceMesh;
 
 use crate::decimate::Frame;
 use crate::reference::NONE;
-use crate::{Decimated, Error, NEW, Options, Reference, Result};
+use crate::{Decimated, Error, NEW, Options, Reference, Result, ViewPoint};
 
 /// The meshoptimizer simplifiers compared with ours.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -129,6 +129,12 @@ impl Inputs {
     }
 }
 
+/// `positions` as meshoptimizer reads them.
+fn adapter_of(positions: &[[f32; 3]]) -> Result<VertexDataAdapter<'_>> {
+    VertexDataAdapter::new(bytemuck::cast_slice(positions), 12, 0)
+        .map_err(|e| Error::Mesh(e.to_string()))
+}
+
 /// Simplifies `mesh` to about `target_triangles` with `simplifier`; positions, texture
 /// coordinates and scalar are weighed as [`Options`] with `z_scale` weighs them in
 /// ours. `home` of each result vertex is a triangle of `mesh` around the input vertex
@@ -150,8 +156,7 @@ pub fn simplify(
     } = Inputs::of(mesh, z_scale)?;
     let target = 3 * target_triangles;
     let mut error = 0f32;
-    let bytes: &[u8] = bytemuck::cast_slice(&positions);
-    let adapter = VertexDataAdapter::new(bytes, 12, 0).map_err(|e| Error::Mesh(e.to_string()))?;
+    let adapter = adapter_of(&positions)?;
     let none = vec![false; mesh.vertex_count()];
     let result = match simplifier {
         Simplifier::Simplify => meshopt::simplify(
@@ -314,9 +319,7 @@ impl ClusterLod {
     /// [`Simplifier::Attributes`] weighs them.
     pub fn build(mesh: &SurfaceMesh, z_scale: f32) -> Result<ClusterLod> {
         let inputs = Inputs::of(mesh, z_scale)?;
-        let bytes: &[u8] = bytemuck::cast_slice(&inputs.positions);
-        let adapter =
-            VertexDataAdapter::new(bytes, 12, 0).map_err(|e| Error::Mesh(e.to_string()))?;
+        let adapter = adapter_of(&inputs.positions)?;
         Ok(ClusterLod::of(
             &inputs.indices,
             &adapter,
@@ -391,18 +394,12 @@ impl ClusterLod {
         (at(t), t)
     }
 
-    /// The indices of the clusters drawn from `eye` (in the frame of the positions,
-    /// vertical exaggeration applied) where a length `e` at distance `d` covers
-    /// `e * focal / d` pixels, with no group's projected error above `max_pixels`;
-    /// clusters wholly outside one of the planes of `frustum` (as
-    /// `strata_render::Camera::frustum` gives them) are left out.
-    pub fn cut_in_view(
-        &self,
-        eye: [f32; 3],
-        focal: f64,
-        max_pixels: f64,
-        frustum: Option<&[[f32; 4]; 5]>,
-    ) -> Vec<u32> {
+    /// The indices of the clusters drawn from `view`, with no group's projected error
+    /// above `max_pixels`; clusters wholly outside one of the planes of its frustum
+    /// are left out. The view's frame is the DAG's: vertical exaggeration applied, by
+    /// the `z_scale` it was built with.
+    pub fn cut_in_view(&self, view: &ViewPoint, max_pixels: f64) -> Vec<u32> {
+        let eye = view.eye;
         let distance = |b: &Bounds| {
             let d2: f32 = (0..3).map(|a| (b.centre[a] - eye[a]).powi(2)).sum();
             f64::from(d2.sqrt() - b.radius)
@@ -410,11 +407,11 @@ impl ClusterLod {
         let too_coarse = |b: &Bounds| {
             b.error == f32::MAX || {
                 let d = distance(b);
-                d <= 0.0 || f64::from(b.error) * focal / d > max_pixels
+                d <= 0.0 || view.pixels(f64::from(b.error), d) > max_pixels
             }
         };
         let shown = |b: &Bounds| {
-            frustum.is_none_or(|planes| {
+            view.frustum.is_none_or(|planes| {
                 planes.iter().all(|p| {
                     let along: f32 = (0..3).map(|a| p[a] * b.centre[a]).sum::<f32>() + p[3];
                     let norm = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
@@ -576,6 +573,14 @@ mod tests {
         let mesh = rolling();
         let dag = ClusterLod::build(&mesh, 1.0).unwrap();
         let whole = plan_area(&mesh);
+        // Heights unexaggerated; a picture 1000 px high whose focal length is 1000 px.
+        let from = |eye: [f32; 3], frustum: Option<[[f32; 4]; 5]>| ViewPoint {
+            eye,
+            z_scale: 1.0,
+            fov_y_deg: 2.0 * 0.5f32.atan().to_degrees(),
+            height_px: 1000,
+            frustum,
+        };
         let triangles_near = |cut: &SurfaceMesh, near: bool| {
             cut.triangles
                 .iter()
@@ -587,11 +592,11 @@ mod tests {
         };
         let close = submesh(
             &mesh,
-            &dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, None),
+            &dag.cut_in_view(&from([0.0, 400.0, 60.0], None), 1.0),
         );
         let far = submesh(
             &mesh,
-            &dag.cut_in_view([600.0, 400.0, 1e7], 1000.0, 1.0, None),
+            &dag.cut_in_view(&from([600.0, 400.0, 1e7], None), 1.0),
         );
         for cut in [&close, &far] {
             cut.validate().unwrap();
@@ -609,8 +614,8 @@ mod tests {
         );
         // A frustum that looks away from half the surface leaves its clusters out.
         let left_half = [[-1.0, 0.0, 0.0, 600.0]; 5];
-        let culled = dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, Some(&left_half));
-        let all = dag.cut_in_view([0.0, 400.0, 60.0], 1000.0, 1.0, None);
+        let culled = dag.cut_in_view(&from([0.0, 400.0, 60.0], Some(left_half)), 1.0);
+        let all = dag.cut_in_view(&from([0.0, 400.0, 60.0], None), 1.0);
         assert!(culled.len() < all.len());
         // ... and keeps every triangle that reaches into the half it looks at.
         let inside = |indices: &[u32]| -> Vec<[u32; 3]> {

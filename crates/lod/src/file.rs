@@ -702,7 +702,7 @@ pub struct ViewPoint {
 
 impl ViewPoint {
     /// Pixels that a length `error` at distance `distance` covers.
-    fn pixels(&self, error: f64, distance: f64) -> f64 {
+    pub(crate) fn pixels(&self, error: f64, distance: f64) -> f64 {
         if distance <= 0.0 {
             return f64::INFINITY;
         }
