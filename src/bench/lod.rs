@@ -26,9 +26,9 @@
 //! corners, and the line-pixel F1 drops for a reason no simplifier can help.
 //!
 //! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, fitted
-//! to the grid lines (`strata_lod::fit`) where the budget is just above its outline
-//! bound, or, on a layer surface whose budget is below that bound, meshopt_simplify's
-//! result fitted to them (the rows count those layers). Ours
+//! to the grid lines (`strata_lod::fit`) where the budget is under 2.5 times its
+//! outline bound, or, on a layer surface whose budget is below that bound,
+//! meshopt_simplify's result fitted to them (the rows count those layers). Ours
 //! alone runs with both placements of new vertices: `strata_alone` (on the original
 //! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
 //! texture coordinates of the nearest original point), and as `strata_cover`: outlines
@@ -308,7 +308,7 @@ const MODELS: [Model; 5] = [
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
     /// What strata draws with ([`decimate_chosen`]): ours (fitted to the grid lines
-    /// just above the outline bound), or meshopt_simplify's fitted to them below it.
+    /// near the outline bound), or meshopt_simplify's fitted to them below it.
     Strata,
     /// Ours alone.
     Ours(Placement),

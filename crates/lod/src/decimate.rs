@@ -44,6 +44,7 @@ use std::time::Instant;
 use strata_grid::SurfaceMesh;
 
 use crate::cover::CellCover;
+use crate::measure::{Located, LocatedSample};
 use crate::quadric::{Local, Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
@@ -263,7 +264,8 @@ pub struct Timings {
     pub evaluate: f64,
     /// Choosing and making the collapses (sorting included), each pass.
     pub collapse: f64,
-    /// The final fit ([`Options::lift`]).
+    /// The final fit ([`Options::lift`]), and locating the input's vertices on the
+    /// result where [`crate::decimate_chosen`] fits it to them.
     pub lift: f64,
     pub passes: usize,
 }
@@ -272,26 +274,36 @@ pub struct Timings {
 pub fn decimate(mesh: &SurfaceMesh, options: &Options) -> Result<Decimated> {
     let start = Instant::now();
     let (reference, vt) = Reference::with_vertex_triangles(mesh)?;
-    decimate_prepared(&reference, vt, options, start.elapsed().as_secs_f64())
+    let (decimated, _) = decimate_prepared(
+        &reference,
+        vt,
+        options,
+        start.elapsed().as_secs_f64(),
+        false,
+    )?;
+    Ok(decimated)
 }
 
 /// [`decimate`] of the mesh `reference` was prepared from (with its vertex triangles
-/// `vt`), which took `prepared` seconds.
+/// `vt`), which took `prepared` seconds; with `locate_input`, also the input's
+/// vertices located on the result ([`Collapser::located`]), the samples of a
+/// [`crate::fit::fit`] of it to the original grid nodes.
 pub(crate) fn decimate_prepared(
     reference: &Reference,
     vt: VertexTriangles,
     options: &Options,
     prepared: f64,
-) -> Result<Decimated> {
+    locate_input: bool,
+) -> Result<(Decimated, Option<Located>)> {
     let start = Instant::now();
     let home = reference.vertex_triangle.clone();
     let topology = Some((reference.adjacency.as_slice(), vt));
     let collapser = Collapser::new(reference.mesh(), &home, reference, &[], options, topology)?;
     let setup = start.elapsed().as_secs_f64();
-    let mut out = collapser.run()?;
+    let (mut out, located) = collapser.run(locate_input)?;
     out.timings.reference = prepared;
     out.timings.setup = setup;
-    Ok(out)
+    Ok((out, located))
 }
 
 /// Simplifies `mesh`, whose vertex `v` lies on triangle `home[v]` of `reference`,
@@ -308,7 +320,7 @@ pub fn decimate_on(
     let start = Instant::now();
     let collapser = Collapser::new(mesh, home, reference, locked, options, None)?;
     let setup = start.elapsed().as_secs_f64();
-    let mut out = collapser.run()?;
+    let (mut out, _) = collapser.run(false)?;
     out.timings.setup = setup;
     Ok(out)
 }
@@ -433,6 +445,21 @@ fn next_floor(made: usize, goal: usize, own: Option<f64>) -> f64 {
 /// Passes after which decimation stops even if collapses are still possible (each
 /// pass is linear in the mesh; the target is usually reached in under twenty).
 const MAX_PASSES: usize = 200;
+
+/// The input's vertices located on the live triangles
+/// ([`Collapser::samples_by_triangle`]).
+struct InputSamples {
+    /// The vertices by triangle, in compressed rows: triangle `t`'s are
+    /// `vertices[first[t]..first[t + 1]]`.
+    first: Vec<u32>,
+    vertices: Vec<u32>,
+}
+
+impl InputSamples {
+    fn of(&self, t: usize) -> &[u32] {
+        &self.vertices[self.first[t] as usize..self.first[t + 1] as usize]
+    }
+}
 
 /// Buffers of a pass (see `Collapser::pass`).
 #[derive(Default)]
@@ -1738,7 +1765,9 @@ impl<'a> Collapser<'a> {
         }
     }
 
-    fn run(mut self) -> Result<Decimated> {
+    /// The passes, then [`Options::lift`]; with `locate_input`, also the input's
+    /// vertices located on the result ([`Collapser::located`]).
+    fn run(mut self, locate_input: bool) -> Result<(Decimated, Option<Located>)> {
         let target = self.options.target_triangles;
         let max_cost = f64::from(self.options.max_error).powi(2);
         let mut floor = 0.0;
@@ -1753,12 +1782,22 @@ impl<'a> Collapser<'a> {
             }
             floor = next_floor(made, goal, own);
         }
-        if self.options.lift {
+        let mut located = None;
+        if self.options.lift || locate_input {
             let start = Instant::now();
-            self.lift(max_cost);
+            self.rebuild_lists();
+            // The lift moves vertices along the normal only: texture coordinates, and
+            // so which triangle each sample lies in, stay.
+            let samples = self.samples_by_triangle();
+            if self.options.lift {
+                self.lift(max_cost, &samples);
+            }
+            if locate_input {
+                located = Some(self.located(&samples));
+            }
             self.timings.lift = start.elapsed().as_secs_f64();
         }
-        Ok(self.finish())
+        Ok((self.finish(), located))
     }
 
     /// The live vertex that input vertex `v` was merged into, through the chain of
@@ -1795,11 +1834,10 @@ impl<'a> Collapser<'a> {
         .filter(|w| w.iter().all(|&x| x >= -1e-9))
     }
 
-    /// The input's vertices by the live triangle each lies in (texture space), in
-    /// compressed rows: triangle `t`'s are `samples[first[t]..first[t + 1]]`. Each is
+    /// The input's vertices by the live triangle each lies in (texture space). Each is
     /// looked for among the triangles of the live vertex it was merged into, and left
     /// out when in none of them. Needs the vertex lists rebuilt.
-    fn samples_by_triangle(&mut self) -> (Vec<u32>, Vec<u32>) {
+    fn samples_by_triangle(&mut self) -> InputSamples {
         let input = self.input;
         // Buffers of the passes, done with, hold the samples (fresh ones of the mesh's
         // size would be page-faulted in): per input vertex its triangle (`mark`), the
@@ -1842,7 +1880,10 @@ impl<'a> Collapser<'a> {
             samples[cursor[t as usize] as usize] = o as u32;
             cursor[t as usize] += 1;
         }
-        (first, samples)
+        InputSamples {
+            first,
+            vertices: samples,
+        }
     }
 
     /// [`Options::lift`], no vertex's quadric error going over `max_cost`. The samples
@@ -1852,9 +1893,7 @@ impl<'a> Collapser<'a> {
     /// to where the simplified surface, linear in its triangles, is nearest the
     /// samples in them (one Gauss-Seidel sweep of the least-squares fit), when that
     /// stays within the vertex's error of the original and folds nothing.
-    fn lift(&mut self, max_cost: f64) {
-        self.rebuild_lists();
-        let (first, samples) = self.samples_by_triangle();
+    fn lift(&mut self, max_cost: f64, samples: &InputSamples) {
         let input = self.input;
         let mesh = self.reference.mesh();
         for v in 0..self.flags.len() as u32 {
@@ -1880,7 +1919,7 @@ impl<'a> Collapser<'a> {
                 let tri = self.tris[t as usize];
                 let k = tri.iter().position(|&w| w == v).unwrap_or(0);
                 let corners = tri.map(|w| self.x[w as usize]);
-                for &o in &samples[first[t as usize] as usize..first[t as usize + 1] as usize] {
+                for &o in samples.of(t as usize) {
                     let uv = input.texcoords[o as usize].map(f64::from);
                     let Some(w) = self.texture_barycentric(t, uv) else {
                         continue;
@@ -1970,6 +2009,48 @@ impl<'a> Collapser<'a> {
         }
     }
 
+    /// The input's vertices, the nodes of its grid lines, where the result draws
+    /// their texture coordinates ([`Collapser::samples_by_triangle`]: no search of
+    /// the whole surface), each with its position on the input as target, in the
+    /// result's triangle numbering ([`Collapser::finish`] keeps the live triangles in
+    /// order). Vertices not found there are left out, not counted as missed: the
+    /// result has not lost them.
+    fn located(&self, samples: &InputSamples) -> Located {
+        let input = self.input;
+        // The result's number of each live triangle.
+        let mut live = 0;
+        let kept: Vec<u32> = self
+            .tris
+            .iter()
+            .map(|tri| {
+                let k = live;
+                live += u32::from(tri[0] != DEAD);
+                k
+            })
+            .collect();
+        let mut out = Vec::with_capacity(samples.vertices.len());
+        for (t, &triangle) in kept.iter().enumerate() {
+            for &o in samples.of(t) {
+                let o = o as usize;
+                let uv = input.texcoords[o].map(f64::from);
+                if let Some(barycentric) = self.texture_barycentric(t as u32, uv) {
+                    out.push(LocatedSample {
+                        point: SurfacePoint {
+                            triangle,
+                            barycentric,
+                        },
+                        target: input.positions[o].map(f64::from),
+                        inside: true,
+                    });
+                }
+            }
+        }
+        Located {
+            samples: out,
+            missed: 0,
+        }
+    }
+
     fn finish(self) -> Decimated {
         let n = self.flags.len();
         let mut remap = vec![NONE; n];
@@ -2052,7 +2133,7 @@ mod tests {
             let mut collapser =
                 Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
             collapser.rounds = rounds;
-            collapser.run().unwrap()
+            collapser.run(false).unwrap().0
         };
         let (by_cost, local) = (run(0), run(LOCAL_ROUNDS));
         for out in [&by_cost, &local] {
@@ -2102,7 +2183,7 @@ mod tests {
             let mut collapser =
                 Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
             collapser.compact_below = compact_below;
-            collapser.run().unwrap()
+            collapser.run(false).unwrap().0
         };
         let (never, always) = (run((0, 1)), run((1, 1)));
         assert!(never.mesh.triangle_count() <= options.target_triangles);
@@ -2128,7 +2209,7 @@ mod tests {
         let home = reference.vertex_triangle.clone();
         let mut collapser = Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
         collapser.rounds = LOCAL_ROUNDS;
-        let out = collapser.run().unwrap();
+        let out = collapser.run(false).unwrap().0;
         out.mesh.validate().unwrap();
         assert!(out.mesh.triangle_count() <= options.target_triangles);
         // Triangles (by their centre) in the first and the last half of the rows.
@@ -2256,6 +2337,85 @@ mod tests {
     fn candidates_stay_small() {
         // A pass holds one per edge: see `Choice::Point`.
         assert_eq!(std::mem::size_of::<Candidate>(), 28);
+    }
+
+    #[test]
+    fn the_grid_nodes_are_located_where_a_search_of_the_whole_surface_finds_them() {
+        use crate::measure::{GridLines, point_position};
+        use std::collections::HashMap;
+        use strata_grid::synth::{SynthParams, generate};
+        use strata_grid::{Face, layer_surface};
+
+        let grid = generate(&SynthParams {
+            nx: 40,
+            ny: 30,
+            nz: 1,
+            faults: 3,
+            seed: 7,
+        })
+        .unwrap();
+        let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin()).unwrap();
+        let (reference, vt) = Reference::with_vertex_triangles(&mesh).unwrap();
+        let options = Options {
+            z_scale: 5.0,
+            ..Options::fraction(&mesh, 0.1)
+        };
+        let (out, located) = decimate_prepared(&reference, vt, &options, 0.0, true).unwrap();
+        let located = located.expect("located samples");
+        assert_eq!(located.missed, 0);
+        // The grid lines sampled at their nodes (the first end of each cell edge),
+        // each found by searching the whole result by texture coordinates.
+        let searched = GridLines::of(&mesh, 1).locate(&out.mesh, &out.home, 5.0);
+        let key = |p: [f64; 3]| p.map(f64::to_bits);
+        let found: HashMap<_, _> = searched
+            .samples
+            .iter()
+            .filter(|s| s.inside)
+            .map(|s| (key(s.target), s.point))
+            .collect();
+        let texcoord = |p: &SurfacePoint| {
+            let tri = out.mesh.triangles[p.triangle as usize];
+            std::array::from_fn::<f64, 2, _>(|a| {
+                (0..3)
+                    .map(|k| p.barycentric[k] * f64::from(out.mesh.texcoords[tri[k] as usize][a]))
+                    .sum()
+            })
+        };
+        let extent = mesh.bounds().map_or(0.0, |(lo, hi)| {
+            (0..3)
+                .map(|a| f64::from(hi[a] - lo[a]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        });
+        let mut same_place = 0;
+        for s in &located.samples {
+            assert!(s.inside);
+            let Some(there) = found.get(&key(s.target)) else {
+                continue;
+            };
+            // The same texture coordinates; on a fault whose sides the result joins
+            // around its tip, the search may take the other side there (the one
+            // nearer the sample), this the sample's own.
+            let (a, b) = (texcoord(&s.point), texcoord(there));
+            assert!(
+                (a[0] - b[0]).abs() + (a[1] - b[1]).abs() < 1e-9,
+                "{a:?} against {b:?}"
+            );
+            let (here, there) = (
+                point_position(&out.mesh, &s.point),
+                point_position(&out.mesh, there),
+            );
+            let d = (0..3)
+                .map(|a| (here[a] - there[a]).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            same_place += usize::from(d <= 1e-9 * extent);
+        }
+        let (ours, theirs) = (located.samples.len(), found.len());
+        assert!(
+            same_place * 100 >= 99 * theirs.max(ours),
+            "{same_place} of {ours} nodes where the search put them, which found {theirs}"
+        );
     }
 
     #[test]
