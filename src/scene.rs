@@ -232,7 +232,7 @@ pub fn build_part(
 const ROWS_PER_PIECE: usize = 64;
 
 /// [`build_part`] for drawing, on all cores: a part's top and bottom surfaces are
-/// built in pieces of [`ROWS_PER_PIECE`] rows of one layer, in parallel, and put
+/// built in pieces of `ROWS_PER_PIECE` rows of one layer, in parallel, and put
 /// together in order. The faces, their order and every corner's position, texture
 /// coordinates and value are those of [`build_part`]; only the nodes on the seams
 /// between pieces get a vertex in each piece, which changes no pixel. A part holds a

@@ -237,7 +237,7 @@ pub struct HierarchyRow {
     pub views: Vec<HierarchyView>,
 }
 
-/// What one hierarchy draws from one view at [`HIERARCHY_PIXELS`].
+/// What one hierarchy draws from one view at `HIERARCHY_PIXELS`.
 #[derive(Debug, Serialize)]
 pub struct HierarchyView {
     pub view: String,

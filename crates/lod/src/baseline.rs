@@ -38,7 +38,7 @@ pub enum Simplifier {
     /// `clodBuild` (meshoptimizer's cluster LOD, its default configuration for
     /// rasterization, clusters of up to [`CLUSTER_TRIANGLES`] triangles, attributes
     /// weighed as `Attributes` weighs them), cut at the smallest error whose clusters
-    /// fit the budget ([`cluster_cut`]).
+    /// fit the budget ([`ClusterLod::cut_within`]).
     ClusterLod,
 }
 

@@ -73,7 +73,7 @@ pub struct Chosen {
     /// units.
     pub decimated: Decimated,
     pub maker: Maker,
-    /// Where the result was [`fit`]ted, its [`score`]s (RMS distance of the original
+    /// Where the result was [`fit`]ted, its scores (`score`: RMS distance of the original
     /// grid lines, display length units, z scaled) before and after.
     pub fitted: Option<(f64, f64)>,
     /// The surface's [`outline_bound`](crate::measure::outline_bound), where the
@@ -86,7 +86,7 @@ pub struct Chosen {
 /// [`outline_bound`](crate::measure::outline_bound), meshoptimizer's `simplify`
 /// [`fit`] to the original grid lines; ours (fitted too) where meshoptimizer's result
 /// draws none of them (it takes a target of no triangle literally). Ours fitted
-/// above the bound but near it ([`FIT_NEAR_BOUND`]), and with [`Options::cover`] at
+/// above the bound but near it (`FIT_NEAR_BOUND`), and with [`Options::cover`] at
 /// any target: the cell mask draws the outlines where their cells' texture
 /// coordinates fall, so moving outline vertices does not cut them, and the fit drew
 /// the lines nearer at every budget measured (bench frames, worse of two views,

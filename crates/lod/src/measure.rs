@@ -452,7 +452,7 @@ impl<'m> GridLines<'m> {
     }
 
     /// Measures each sample's distance to the point of `simplified` with the same
-    /// texture coordinates in the same component (see [`GridLines::index`] for
+    /// texture coordinates in the same component (see `GridLines::index` for
     /// `home`); where several points have them (the two sides of a fault), the
     /// nearest.
     pub fn deviation(&self, simplified: &SurfaceMesh, home: &[u32], z_scale: f64) -> Deviation {
@@ -485,7 +485,7 @@ impl<'m> GridLines<'m> {
         sums.deviation()
     }
 
-    /// Where `simplified` draws each sample (see [`GridLines::index`] for `home`):
+    /// Where `simplified` draws each sample (see `GridLines::index` for `home`):
     /// the point of the same texture coordinates nearest it with z scaled by
     /// `z_scale` (the side of a fault that [`GridLines::deviation`] measures), or
     /// the nearest point outside its boundary; the points stay where they are in
