@@ -9,6 +9,10 @@
 //! same original border vertices and edges, and no crack can open between them. (The
 //! price: borders stay at full resolution, so coarse levels keep a line of small
 //! triangles along tile borders; the grid lines drawn on them do not change.)
+//! Over a flat stretch of layer with affine texture coordinates and scalar (the
+//! layers of a block-centred deck such as SPE10), where simplifying changes nothing,
+//! a parent goes on below the quarter and keeps little but its locked borders: the
+//! root of a flat layer is two triangles.
 //!
 //! Every vertex of every level lies on the original surface with the original
 //! surface's texture coordinates there (each node is simplified on the original layer
@@ -27,7 +31,11 @@ use strata_grid::SurfaceMesh;
 use crate::baseline::{optimize_order, permute_by};
 use crate::measure::{UvIndex, components};
 use crate::reference::NONE;
-use crate::{Error, Options, Reference, Result, decimate_on};
+use crate::{Decimated, Error, Options, Reference, Result, decimate_on};
+
+/// Error of a parent, relative to its extent, under which its simplification changed
+/// nothing but the rounding of single-precision positions.
+const UNCHANGED: f64 = 1e-6;
 
 /// How a hierarchy is built.
 #[derive(Clone, Debug, PartialEq)]
@@ -467,26 +475,62 @@ fn parent(
 
     // Lock the outer border where a neighbour tile exists.
     let line = |c: u32| (2 * c + 1) as f32;
-    let locked: Vec<bool> = merged
-        .texcoords
-        .iter()
-        .map(|&[u, v]| {
-            (cells[0] > 0 && u == line(cells[0]))
-                || (cells[2] < dims[0] && u == line(cells[2]))
-                || (cells[1] > 0 && v == line(cells[1]))
-                || (cells[3] < dims[1] && v == line(cells[3]))
-        })
-        .collect();
+    let locked = |mesh: &SurfaceMesh| -> Vec<bool> {
+        mesh.texcoords
+            .iter()
+            .map(|&[u, v]| {
+                (cells[0] > 0 && u == line(cells[0]))
+                    || (cells[2] < dims[0] && u == line(cells[2]))
+                    || (cells[1] > 0 && v == line(cells[1]))
+                    || (cells[3] < dims[1] && v == line(cells[3]))
+            })
+            .collect()
+    };
     let target = ((merged.triangle_count() as f64) * options.reduction).ceil() as usize;
     let decimation = Options {
         target_triangles: target,
         ..options.decimation.clone()
     };
-    let simplified = decimate_on(&merged, &home, reference, &locked, &decimation)?;
+    let mut simplified = decimate_on(&merged, &home, reference, &locked(&merged), &decimation)?;
 
     // Error: distance to the children's surface at the children's vertices, plus
     // the children's own error.
-    let measured = vertex_deviation(&merged, &home, &simplified.mesh, &simplified.home, labels);
+    let deviation = |s: &Decimated| vertex_deviation(&merged, &home, &s.mesh, &s.home, labels);
+    let mut measured = deviation(&simplified);
+    // Over a flat, affine stretch of layer, collapses that change nothing go on past
+    // the target, and stay if they changed nothing indeed (a quadric's cost is
+    // measured at the vertices only). Tried where the target changed nothing (from
+    // its result), and where the children are such stretches themselves but the
+    // target was below what their locked borders need (from the children).
+    let unchanged = merged.bounds().map_or(0.0, |(lo, hi)| {
+        let extent = (0..3).map(|a| hi[a] - lo[a]).fold(0f32, f32::max);
+        UNCHANGED * f64::from(extent)
+    });
+    let exact = |error: &[f64]| error.iter().all(|&e| e <= unchanged);
+    let flat_children = level >= 2 && children.iter().all(|c| exact(&c.error.map(f64::from)));
+    let from_target = exact(&measured);
+    if from_target || flat_children {
+        let (mesh, mesh_home) = if from_target {
+            (&simplified.mesh, &simplified.home[..])
+        } else {
+            (&merged, &home[..])
+        };
+        let free = Options {
+            target_triangles: mesh.triangle_count(),
+            free_past_target: true,
+            ..decimation
+        };
+        let mut further = decimate_on(mesh, mesh_home, reference, &locked(mesh), &free)?;
+        if from_target {
+            for s in further.source.iter_mut().filter(|s| **s != crate::NEW) {
+                *s = simplified.source[*s as usize];
+            }
+        }
+        let further_measured = deviation(&further);
+        if exact(&further_measured) {
+            (simplified, measured) = (further, further_measured);
+        }
+    }
     let child_error = children.iter().fold([0f32; 2], |e, c| {
         [e[0].max(c.error[0]), e[1].max(c.error[1])]
     });

@@ -684,6 +684,58 @@ fn a_damaged_tree_is_refused_when_the_file_opens() {
 }
 
 #[test]
+fn over_a_flat_layer_coarse_nodes_keep_little_but_their_borders() {
+    // A tilted plane, cells of 10 x 8, with a scalar affine in the cell indices: no
+    // collapse inside a node changes anything drawn.
+    let (ni, nj) = (48, 40);
+    let mut mesh = SurfaceMesh::structured(ni, nj, |i, j| {
+        let (x, y) = (i as f32 * 10.0, j as f32 * 8.0);
+        [x, y, 100.0 + 0.05 * x - 0.1 * y]
+    });
+    mesh.scalars = mesh.texcoords.iter().map(|t| 0.5 * t[0] + t[1]).collect();
+    let tree = build_layer(&mesh, [ni as u32, nj as u32], &options(6)).unwrap();
+    assert!(assert_crack_free(&tree, &mesh) > 100);
+    let mut parents = 0;
+    for n in tree.nodes.iter().filter(|n| !n.children.is_empty()) {
+        n.mesh.validate().unwrap();
+        assert!(
+            n.error[0] < 1e-3 && n.error[1] < 1e-3,
+            "error {:?}",
+            n.error
+        );
+        // The texture plane is covered once: no piece went missing.
+        let area: f64 = n
+            .mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| n.mesh.texcoords[v as usize].map(f64::from));
+                0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+            })
+            .sum();
+        let [i0, j0, i1, j1] = n.cells;
+        assert_eq!(area, f64::from(4 * (i1 - i0) * (j1 - j0)));
+        // A node's outer border, where it has neighbours, stays whole: at most one
+        // triangle per border edge (each of them spans a stretch of it), and the few
+        // that join the corners.
+        let locked = [i0 > 0, j0 > 0, i1 < ni as u32, j1 < nj as u32];
+        let border_edges = (i1 - i0) * (u32::from(locked[1]) + u32::from(locked[3]))
+            + (j1 - j0) * (u32::from(locked[0]) + u32::from(locked[2]));
+        let kept = n.mesh.triangle_count();
+        assert!(
+            kept <= border_edges as usize + 6,
+            "level {} node {:?}: {kept} triangles for {border_edges} locked border edges",
+            n.level,
+            n.cells
+        );
+        parents += 1;
+    }
+    assert!(parents >= 10, "{parents} parents");
+    // The root has no neighbour: its plane is two triangles, or a few more.
+    assert!(tree.nodes[0].mesh.triangle_count() <= 4);
+}
+
+#[test]
 fn reek_hierarchy_is_crack_free() {
     let Some(data) = shared_data("reek_hierarchy_is_crack_free") else {
         return;
