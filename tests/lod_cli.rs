@@ -486,8 +486,9 @@ fn the_hierarchy_view_draws_the_models_isolines_on_any_level() {
         full.contains("(100.0 %)") && full.contains("isolines every 0.02"),
         "{full}"
     );
+    // Coarser levels only: which ones depends on the errors the build measured.
     assert!(
-        coarse.contains("level 1") && !coarse.contains("level 0"),
+        coarse.contains("  level ") && !coarse.contains("level 0"),
         "{coarse}"
     );
     let f1 = isoline_f1(&coarsest, &finest, "lod view at 30 px");
