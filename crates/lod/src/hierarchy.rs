@@ -539,8 +539,12 @@ fn parent(
                 *s = simplified.source[*s as usize];
             }
         }
+        // Kept where it changed nothing and is smaller, or where the target's result
+        // changed something (from the children, the collapses that change nothing can
+        // leave more than the target where the scalar is not affine).
         let further_measured = deviation(&further);
-        if exact(&further_measured) {
+        let smaller = further.mesh.triangle_count() < simplified.mesh.triangle_count();
+        if exact(&further_measured) && (smaller || !exact(&measured)) {
             (simplified, measured) = (further, further_measured);
         }
     }
