@@ -8,11 +8,13 @@
 //! their levels, therefore meet along the same original border vertices and edges,
 //! and no crack can open between them. (The price: borders stay at full resolution, so
 //! coarse levels keep a line of small triangles along tile borders; the grid lines
-//! drawn on them do not change.) A parent keeps a quarter of its children's triangles
-//! besides one for each locked border vertex: a quarter of all of them left the inside
-//! of a node less and less as its border grew, twice per level, and errors leapt (a
-//! faulted 128 x 128 layer in tiles of 8: 45 m at level 2, 1 143 m at level 3 on
-//! cells of 34 m, against 0.85 m and 4.1 m now).
+//! drawn on them do not change.) A parent keeps a quarter of its children's triangles,
+//! or more where its locked border would take over a quarter of those: the border
+//! doubles at each level while the quarter stays, and a quarter in all left the
+//! inside of a node less and less, until errors leapt (a faulted 128 x 128 layer in
+//! tiles of 8: 45 m at level 2, 1 143 m at level 3 on cells of 34 m, against 1.2 m
+//! and 4.0 m now). With the default tiles of 64 cells that begins at level 4, in
+//! layers over 1024 cells across.
 //! Over a flat stretch of layer with affine texture coordinates and scalar (the
 //! layers of a block-centred deck such as SPE10), where simplifying changes nothing,
 //! a parent goes on below the quarter and keeps little but its locked borders: the
@@ -49,9 +51,9 @@ const UNCHANGED_ULPS: f32 = 8.0;
 pub struct BuildOptions {
     /// Cells along each side of a leaf tile.
     pub tile_cells: u32,
-    /// Share of its children's triangles a parent keeps besides those its locked
-    /// border needs, one a vertex, which it keeps whole (a quarter keeps the inside of
-    /// nodes at about the same size at every level).
+    /// Share of its children's triangles a parent keeps (a quarter keeps nodes of
+    /// about the same size at every level); more where its locked border, kept whole,
+    /// would leave the inside less than three quarters of that.
     pub reduction: f64,
     /// How errors are weighed when simplifying (target and error bound are set per
     /// node).
@@ -495,10 +497,11 @@ fn parent(
             .collect()
     };
     let merged_locked = locked(&merged);
-    // The locked border is kept whole: the reduction applies to the rest.
+    // The locked border is kept whole, a triangle a vertex at least: beyond it the
+    // inside keeps three quarters of the reduction's target or more.
     let border = merged_locked.iter().filter(|&&l| l).count();
-    let free_part = merged.triangle_count().saturating_sub(border) as f64;
-    let target = (free_part * options.reduction).ceil() as usize + border;
+    let reduced = ((merged.triangle_count() as f64) * options.reduction).ceil() as usize;
+    let target = reduced.max(border + reduced * 3 / 4);
     let decimation = Options {
         target_triangles: target,
         ..options.decimation.clone()

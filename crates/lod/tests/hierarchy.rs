@@ -893,9 +893,9 @@ fn random_damage_never_panics() {
 #[test]
 fn small_tiles_whose_locked_borders_take_much_of_a_node_still_err_under_a_cell() {
     // Tiles of 8 x 8 cells: a level-3 node's locked borders alone are half the
-    // triangles a quarter of its children would leave it. They stay whole, and only
-    // the rest is simplified by the reduction: a quarter of all starved the inside of
-    // the nodes above level 1 (errors of 45 to 1 147 m on 50 m cells).
+    // triangles a quarter of its children would leave it. They stay whole and the
+    // inside keeps three quarters of that quarter: a quarter in all starved the inside
+    // of the nodes above level 1 (errors of 45 to 1 147 m on cells of 34 m).
     let (nx, ny) = (128, 128);
     let grid = faulted_grid(nx, ny);
     let mesh = layer(&grid, 1);
