@@ -1384,8 +1384,9 @@ mod tests {
 
     #[test]
     fn the_build_counts_every_tile_of_every_layer_surface_once() {
-        // 10 x 7 cells in tiles of 4: 3 x 2 leaves, 2 x 1 parents, then the root.
-        assert_eq!(layer_work([10, 7], 4), 6 + 20 * (2 + 1));
+        // 10 x 7 cells in tiles of 4: 3 x 2 leaves, 2 x 1 parents, then the root and
+        // the levels above it.
+        assert_eq!(layer_work([10, 7], 4), 6 + 20 * (2 + 1 + 1));
         let mut grid = generate(&SynthParams {
             nx: 30,
             ny: 20,

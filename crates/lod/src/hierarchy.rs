@@ -20,6 +20,13 @@
 //! a parent goes on below the quarter and keeps little but its locked borders: the
 //! root of a flat layer is two triangles.
 //!
+//! Above the quadtree's root, whose tile is the whole layer, coarsening goes on: a
+//! chain of nodes over the whole layer (nothing to lock, no neighbour), each
+//! simplified from the one below while that halves it, down to
+//! [`COARSEST_TRIANGLES`]. The root keeps a tile's worth of triangles, which a layer
+//! needs only where it fills a view: seen whole, or far, or with a budget of a few
+//! pixels, a layer is drawn from one of the chain's nodes.
+//!
 //! Every vertex of every level lies on the original surface with the original
 //! surface's texture coordinates there (each node is simplified on the original layer
 //! as reference surface), so any selection draws the original wireframe.
@@ -45,6 +52,10 @@ use crate::{Decimated, Error, Options, Reference, Result, decimate_on};
 /// generated 2000 x 2000 layer let 176 nearly flat nodes through (2-6 mm off on
 /// nodes of 6.4 km) whose further collapses all failed and took a sixth more time.
 const UNCHANGED_ULPS: f32 = 8.0;
+
+/// The coarsest node of a layer has at most this many triangles, or is as small as
+/// simplifying its outline and pieces within the rules leaves it.
+const COARSEST_TRIANGLES: usize = 64;
 
 /// How a hierarchy is built.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,7 +113,8 @@ impl BuildOptions {
 /// A node of a layer's quadtree.
 #[derive(Clone, Debug)]
 pub struct Node {
-    /// 0 for leaves (full resolution).
+    /// 0 for leaves (full resolution), one more each level up, the chain above the
+    /// quadtree's root included.
     pub level: u32,
     /// Tile coordinates at this level.
     pub tile: [u32; 2],
@@ -124,8 +136,8 @@ pub struct Node {
     pub home: Vec<u32>,
 }
 
-/// The quadtree of one layer surface: the root first, then breadth first, so the
-/// children of a node are consecutive.
+/// The quadtree of one layer surface under its chain of coarser nodes: the coarsest
+/// first, then breadth first, so the children of a node are consecutive.
 #[derive(Clone, Debug, Default)]
 pub struct LayerTree {
     pub nodes: Vec<Node>,
@@ -167,7 +179,9 @@ pub(crate) fn layer_work(dims: [u32; 2], tile_cells: u32) -> u64 {
         u64::from(x) * u64::from(y)
     };
     let parents: u64 = (1..=root_level(dims, tile_cells)).map(tiles).sum();
-    tiles(0) + PARENT_WORK * parents
+    // The coarser levels above the root count as one parent: each is built from a
+    // quarter of the one below, a root's worth in all.
+    tiles(0) + PARENT_WORK * (parents + 1)
 }
 
 /// Builds the quadtree of `layer`, a layer surface of a grid of `dims` = `[nx, ny]`
@@ -248,6 +262,8 @@ pub(crate) fn build_layer_with<K: Send>(
         built,
     };
     let root = build.subtree(root_level(dims, t), [0, 0], keep)?;
+    let root = root.map(|root| build.coarser(root, keep)).transpose()?;
+    built(PARENT_WORK);
     Ok(root.map_or_else(Vec::new, |root| {
         breadth_first(Kept {
             node: keep(root.node),
@@ -374,6 +390,42 @@ impl LayerBuild<'_> {
         };
         (self.built)(PARENT_WORK);
         Ok(node)
+    }
+
+    /// Above the quadtree's root, nodes over the whole layer, each simplified from the
+    /// one below it, while that halves it at least and until one has at most
+    /// [`COARSEST_TRIANGLES`]: far or small on screen, a layer is then drawn with as
+    /// few triangles as its pixels allow, where the root keeps the triangles of a
+    /// tile however small the layer looks.
+    fn coarser<K: Send>(
+        &self,
+        mut top: Pending<K>,
+        keep: &(dyn Fn(Node) -> K + Sync),
+    ) -> Result<Pending<K>> {
+        while top.node.mesh.triangle_count() > COARSEST_TRIANGLES {
+            let below = &top.node;
+            let node = parent(
+                &self.reference,
+                &self.labels,
+                &[below],
+                below.level + 1,
+                below.tile,
+                below.cells,
+                self.dims,
+                self.options,
+            )?;
+            if 2 * node.mesh.triangle_count() > below.mesh.triangle_count() {
+                break;
+            }
+            top = Pending {
+                node,
+                children: vec![Kept {
+                    node: keep(top.node),
+                    children: top.children,
+                }],
+            };
+        }
+        Ok(top)
     }
 }
 
