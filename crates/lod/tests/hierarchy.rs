@@ -51,6 +51,29 @@ fn options(tile_cells: u32) -> BuildOptions {
     }
 }
 
+/// A faulted `nx` x `ny` grid, its second layer's top surface, and that surface's
+/// tree in tiles of `tile_cells`.
+fn layer_tree(
+    nx: usize,
+    ny: usize,
+    tile_cells: u32,
+) -> (strata_grid::CornerPointGrid, SurfaceMesh, LayerTree) {
+    let grid = faulted_grid(nx, ny);
+    let mesh = layer(&grid, 1);
+    let tree = build_layer(&mesh, [nx as u32, ny as u32], &options(tile_cells)).unwrap();
+    (grid, mesh, tree)
+}
+
+/// The hierarchy of `grid` in tiles of `tile_cells`, saved in a temporary folder
+/// (kept while the folder is) and opened.
+fn saved(grid: &strata_grid::CornerPointGrid, tile_cells: u32) -> (tempfile::TempDir, LodFile) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.lod");
+    build_file(grid, None, &path, &options(tile_cells)).unwrap();
+    let file = LodFile::open(&path).unwrap();
+    (dir, file)
+}
+
 fn distance_to_segment(p: [f64; 3], s: [[f32; 3]; 2]) -> f64 {
     let (a, b) = (s[0].map(f64::from), s[1].map(f64::from));
     let e: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
@@ -207,10 +230,7 @@ fn neighbours_at_every_pair_of_levels_share_their_borders() {
 #[test]
 fn a_view_frustum_leaves_out_only_what_it_does_not_show_and_a_cell_has_one_leaf() {
     let grid = faulted_grid(40, 30);
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("model.lod");
-    build_file(&grid, None, &path, &options(8)).unwrap();
-    let file = LodFile::open(&path).unwrap();
+    let (_dir, file) = saved(&grid, 8);
     let nodes = file.nodes();
     let (lo, hi) = (nodes[0].min, nodes[0].max);
     let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
@@ -898,9 +918,7 @@ fn small_tiles_whose_locked_borders_take_much_of_a_node_still_err_under_a_cell()
     // inside keeps three quarters of that quarter: a quarter in all starved the inside
     // of the nodes above level 1 (errors of 45 to 1 147 m on cells of 34 m).
     let (nx, ny) = (128, 128);
-    let grid = faulted_grid(nx, ny);
-    let mesh = layer(&grid, 1);
-    let tree = build_layer(&mesh, [nx as u32, ny as u32], &options(8)).unwrap();
+    let (_, mesh, tree) = layer_tree(nx, ny, 8);
     let (lo, hi) = mesh.bounds().unwrap();
     let cell = (hi[0] - lo[0]) / nx as f32;
     // 16 x 16 leaves: the quadtree's root is on level 4, the coarser levels over the
@@ -922,9 +940,7 @@ fn small_tiles_whose_locked_borders_take_much_of_a_node_still_err_under_a_cell()
 #[test]
 fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_say() {
     let (nx, ny) = (96, 80);
-    let grid = faulted_grid(nx, ny);
-    let mesh = layer(&grid, 1);
-    let tree = build_layer(&mesh, [nx as u32, ny as u32], &options(32)).unwrap();
+    let (grid, mesh, tree) = layer_tree(nx, ny, 32);
     // 3 x 3 leaves of 32 cells: the quadtree's root is on level 2.
     let root = tree.nodes.iter().position(|n| n.level == 2).unwrap();
     assert!(root >= 2, "{root} levels above the quadtree's root");
@@ -966,10 +982,7 @@ fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_s
     }
 
     // Seen from far, a layer is one of those nodes, every cell drawn once.
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("model.lod");
-    build_file(&grid, None, &path, &options(32)).unwrap();
-    let file = LodFile::open(&path).unwrap();
+    let (_dir, file) = saved(&grid, 32);
     let nodes = file.nodes();
     let (lo, hi) = (nodes[0].min, nodes[0].max);
     let far = ViewPoint {
