@@ -628,11 +628,14 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
             .count()
     };
     let mut side_triangles = None;
+    // Full resolution, as render draws: at this size the view would choose coarser
+    // levels over the whole of some layers.
+    let full = ["--pixels", "0"];
     for iso in [&[][..], &["--iso"][..]] {
         let mut options = vec!["--sides"];
         options.extend_from_slice(iso);
+        options.extend_from_slice(&full);
         let (printed, viewed) = view_lod(lod_s, &png("view"), "400x300", &options);
-        // The sample's 6 layers fit one tile: the view draws the full resolution.
         assert!(printed.contains("(100.0 %)"), "{printed}");
         let rendered_options: Vec<&str> = match iso {
             [] => vec!["--sides"],
@@ -659,7 +662,8 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
             "{side_triangles:?} of {all_sides:?} side triangles drawn"
         );
         let (model, ..) = measure(&picture("render"));
-        let (_, plain) = view_lod(lod_s, &png("plain"), "400x300", iso);
+        let plain_options = [iso, &full[..]].concat();
+        let (_, plain) = view_lod(lod_s, &png("plain"), "400x300", &plain_options);
         let (with, without) = (
             differ(&viewed, &picture("render")),
             differ(&plain, &picture("render")),
@@ -683,7 +687,8 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
     }
     // A layer range: those layers' sides only, as `render --layers` draws them.
     let range = ["--sides", "--layers", "3..5"];
-    let (printed, viewed) = view_lod(lod_s, &png("range"), "400x300", &range);
+    let range_full = [&range[..], &full[..]].concat();
+    let (printed, viewed) = view_lod(lod_s, &png("range"), "400x300", &range_full);
     render_sample(&png("render_range"), "400x300", &range);
     let rendered = picture("render_range");
     let (model, ..) = measure(&rendered);
