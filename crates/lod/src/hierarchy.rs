@@ -184,8 +184,8 @@ pub(crate) fn layer_work(dims: [u32; 2], tile_cells: u32) -> u64 {
         u64::from(x) * u64::from(y)
     };
     let parents: u64 = (1..=root_level(dims, tile_cells)).map(tiles).sum();
-    // The coarser levels above the root count as one parent: each is built from a
-    // quarter of the one below, a root's worth in all.
+    // The chain above the root counts as one parent: each of its nodes simplifies
+    // the root alone, a quarter of what a parent simplifies.
     tiles(0) + PARENT_WORK * (parents + 1)
 }
 
