@@ -115,7 +115,7 @@ impl BuildOptions {
     }
 }
 
-/// A node of a layer's quadtree.
+/// A node of a layer's quadtree, or of the chain above its root.
 #[derive(Clone, Debug)]
 pub struct Node {
     /// 0 for leaves (full resolution), one more each level up, the chain above the
@@ -409,6 +409,9 @@ impl LayerBuild<'_> {
         mut top: Pending<K>,
         keep: &(dyn Fn(Node) -> K + Sync),
     ) -> Result<Pending<K>> {
+        if top.node.mesh.triangle_count() <= COARSEST_TRIANGLES {
+            return Ok(top);
+        }
         let root = top.node.clone();
         let mut reduction = 1.0;
         while top.node.mesh.triangle_count() > COARSEST_TRIANGLES {

@@ -968,7 +968,7 @@ fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_s
             }
         }
         // The error a node carries holds on the original grid lines, sampled apart
-        // from the children's vertices it was measured at.
+        // from the vertices it was measured at (the children's, or the root's).
         let z_scale = 5.0;
         let d = deviation(&mesh, &n.mesh, &n.home, 4, z_scale);
         let said = f64::from(n.error[0]).hypot(z_scale * f64::from(n.error[1]));
