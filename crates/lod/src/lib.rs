@@ -17,6 +17,8 @@
 //! * [`build_layer`], [`build_file`], [`LodFile`]: a quadtree of tiles per layer with
 //!   crack-free borders and per-node geometric error, saved to a file that is memory
 //!   mapped back, and the per-frame choice of nodes by projected error.
+//! * [`share_budget`]: one budget for a model's surfaces, split by how much of each
+//!   is seen.
 //! * [`measure`]: how far the simplified surface draws each texture coordinate from
 //!   where the original draws it.
 
@@ -31,6 +33,7 @@ mod hierarchy;
 pub mod measure;
 mod quadric;
 mod reference;
+mod share;
 
 pub use choose::{Chosen, Maker, decimate_chosen};
 pub use cover::{CellCover, CoverPiece, cell_of};
@@ -41,3 +44,4 @@ pub use file::{
 };
 pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
 pub use reference::{NONE, Reference, SurfacePoint, closest_on_triangle};
+pub use share::{MIN_VISIBLE, SurfaceShare, share_budget};
