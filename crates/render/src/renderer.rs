@@ -16,6 +16,26 @@ use crate::wire::{
 };
 use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Style};
 
+/// Directions (azimuth, elevation in degrees) from which
+/// [`Renderer::visible_fractions`] looks at a model: rings of six at 30 and 70
+/// degrees above and below the horizon, the steep rings turned half a step, so that
+/// what shows from above and from below counts alike.
+pub const SHARE_VIEWS: [(f32, f32); 24] = {
+    let mut views = [(0.0, 0.0); 24];
+    let elevations = [30.0, 70.0, -30.0, -70.0];
+    let mut k = 0;
+    while k < 24 {
+        let ring = k / 6;
+        let turn = if ring % 2 == 1 { 30.0 } else { 0.0 };
+        views[k] = ((k % 6) as f32 * 60.0 + turn, elevations[ring]);
+        k += 1;
+    }
+    views
+};
+
+/// Side of the square frames of [`Renderer::visible_fractions`], in pixels.
+pub const SHARE_SIZE: u32 = 256;
+
 /// What to look at: camera, image size, and the scene's bounds (unscaled display
 /// frame) from which the depth range is fitted.
 #[derive(Clone, Copy, Debug)]
@@ -382,6 +402,76 @@ impl Renderer {
                 (view.width, view.height),
             )
         })
+    }
+
+    /// Per surface of `surfaces` (drawn together, under vertical exaggeration
+    /// `z_scale`), the fraction of its area that the others and itself leave seen:
+    /// pixels showing it over pixels its triangles cover, summed over
+    /// [`SHARE_VIEWS`] around the model (each framing all of it, [`SHARE_SIZE`]
+    /// pixels square). Stacked layer surfaces show whole at the top and bottom of the
+    /// stack from above and below, and little of those between. A surface that covers
+    /// no pixel in any view gets 0.
+    pub fn visible_fractions(
+        &mut self,
+        surfaces: &[&SurfaceMesh],
+        z_scale: f32,
+    ) -> Result<Vec<f64>> {
+        let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
+        let mut all = SurfaceMesh::with_origin(origin);
+        let mut groups = Vec::new();
+        for (g, s) in surfaces.iter().enumerate() {
+            all.append(s);
+            groups.resize(all.vertex_count(), g as u32);
+        }
+        if !all.texcoords.is_empty() && all.texcoords.len() != all.vertex_count() {
+            all.texcoords.clear();
+        }
+        let count = surfaces.len();
+        let (mut seen, mut covered) = (vec![0u64; count], vec![0.0f64; count]);
+        let Some((lo, hi)) = all.bounds() else {
+            return Ok(vec![0.0; count]);
+        };
+        let bounds = (Vec3::from(lo), Vec3::from(hi));
+        for &direction in &SHARE_VIEWS {
+            let view = View {
+                camera: Camera::fit_points(
+                    all.positions.iter().map(|&p| Vec3::from(p)),
+                    z_scale,
+                    1.0,
+                    direction,
+                    1.0,
+                ),
+                width: SHARE_SIZE,
+                height: SHARE_SIZE,
+                bounds,
+            };
+            self.set_frame(&view, &Style::default())?;
+            let pixels = validated(&self.gpu, || {
+                crate::visibility::visible_pixels(
+                    &self.gpu,
+                    &self.frame_layout,
+                    &self.bind_group,
+                    (&all, &groups, count),
+                    (view.width, view.height),
+                )
+            })?;
+            let area = crate::visibility::projected_pixels((&all, &groups, count), &view);
+            for g in 0..count {
+                seen[g] += pixels[g];
+                covered[g] += area[g];
+            }
+        }
+        Ok(seen
+            .iter()
+            .zip(&covered)
+            .map(|(&s, &c)| {
+                if c > 0.0 {
+                    (s as f64 / c).min(1.0)
+                } else {
+                    0.0
+                }
+            })
+            .collect())
     }
 
     /// Creates the technique of `mode` on first use.

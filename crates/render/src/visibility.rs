@@ -1,14 +1,16 @@
 //! Which tiles of a cell cover's pieces a frame shows: a pass that writes, at each pixel
 //! centre, the piece of the nearest surface (the mesh hiding itself, two-sided), its
 //! cell and how many cells the pixel's neighbours reach, read back. A hierarchy view
-//! reads the model's isoline field only for the tiles it shows.
+//! reads the model's isoline field only for the tiles it shows; a decimation of
+//! several surfaces splits its budget by the part of each that such frames show.
 
+use glam::Vec4;
 use strata_grid::SurfaceMesh;
 use strata_lod::CellCover;
 use wgpu::util::DeviceExt;
 
 use crate::gpu::Gpu;
-use crate::renderer::{frame_texture, readback_buffer};
+use crate::renderer::{View, frame_texture, readback_buffer};
 use crate::wire::{DEPTH_FORMAT, PipelineContext, pipeline_into};
 use crate::{Error, Result};
 
@@ -90,6 +92,58 @@ pub(crate) fn visible_tiles(
     if mesh.is_empty() {
         return Ok(visible);
     }
+    let texels = id_frame(
+        gpu,
+        frame_layout,
+        frame_bind_group,
+        (mesh, pieces),
+        (width, height),
+    )?;
+    // Neighbouring pixels mostly name the same tiles: each run is marked once.
+    let mut last = [0u32; 4];
+    for row in texels.chunks_exact(width as usize) {
+        for &texel @ [id, x, y, reach] in row {
+            if id == 0 || texel == last {
+                continue;
+            }
+            last = texel;
+            let p = id as usize - 1;
+            let Some(piece) = cover.pieces.get(p) else {
+                continue;
+            };
+            let side = i64::from(tile.max(1));
+            let [across, down] = piece.tiles(tile).map(i64::from);
+            let range = |c: u32, origin: i32, count: i64| {
+                let rel = i64::from(c as i32) - i64::from(origin);
+                let reach = i64::from(reach);
+                (
+                    (rel - reach).div_euclid(side).max(0),
+                    (rel + reach).div_euclid(side).min(count - 1),
+                )
+            };
+            let (x0, x1) = range(x, piece.origin[0], across);
+            let (y0, y1) = range(y, piece.origin[1], down);
+            for ty in y0..=y1 {
+                for tx in x0..=x1 {
+                    visible[first_tile[p] + (ty * across + tx) as usize] = true;
+                }
+            }
+        }
+    }
+    Ok(visible)
+}
+
+/// One frame of `mesh`, the nearest surface at each pixel centre (the mesh hiding
+/// itself, two-sided), read back row by row as [`TILE_FORMAT`] texels: `ids[v] + 1`
+/// of the triangle's first vertex `v` (0 where no surface is), the cell and the reach
+/// of `fs_tile`.
+fn id_frame(
+    gpu: &Gpu,
+    frame_layout: &wgpu::BindGroupLayout,
+    frame_bind_group: &wgpu::BindGroup,
+    (mesh, ids): (&SurfaceMesh, &[u32]),
+    (width, height): (u32, u32),
+) -> Result<Vec<[u32; 4]>> {
     let device = &gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("visible tiles"),
@@ -136,8 +190,16 @@ pub(crate) fn visible_tiles(
     };
     let vertex = |label, contents| buffer(label, contents, wgpu::BufferUsages::VERTEX);
     let positions = vertex("tile positions", bytemuck::cast_slice(&mesh.positions));
-    let texcoords = vertex("tile texcoords", bytemuck::cast_slice(&mesh.texcoords));
-    let piece_buffer = vertex("vertex pieces", bytemuck::cast_slice(pieces));
+    // A mesh without texture coordinates is drawn with zeros: its cells mean nothing.
+    let zeros;
+    let uv: &[[f32; 2]] = if mesh.texcoords.len() == mesh.vertex_count() {
+        &mesh.texcoords
+    } else {
+        zeros = vec![[0.0f32; 2]; mesh.vertex_count()];
+        &zeros
+    };
+    let texcoords = vertex("tile texcoords", bytemuck::cast_slice(uv));
+    let piece_buffer = vertex("vertex pieces", bytemuck::cast_slice(ids));
     let indices = buffer(
         "tile indices",
         bytemuck::cast_slice(&mesh.triangles),
@@ -210,37 +272,83 @@ pub(crate) fn visible_tiles(
         .slice(..)
         .get_mapped_range()
         .map_err(|e| Error::Gpu(e.to_string()))?;
-    // Neighbouring pixels mostly name the same tiles: each run is marked once.
-    let mut last = [0u32; 4];
+    let mut texels = Vec::with_capacity(width as usize * height as usize);
     for row in mapped.chunks_exact(padded_row as usize) {
-        let row: &[[u32; 4]] = bytemuck::cast_slice(&row[..TILE_TEXEL * width as usize]);
-        for &texel @ [id, x, y, reach] in row {
-            if id == 0 || texel == last {
-                continue;
-            }
-            last = texel;
-            let p = id as usize - 1;
-            let Some(piece) = cover.pieces.get(p) else {
-                continue;
-            };
-            let side = i64::from(tile.max(1));
-            let [across, down] = piece.tiles(tile).map(i64::from);
-            let range = |c: u32, origin: i32, count: i64| {
-                let rel = i64::from(c as i32) - i64::from(origin);
-                let reach = i64::from(reach);
-                (
-                    (rel - reach).div_euclid(side).max(0),
-                    (rel + reach).div_euclid(side).min(count - 1),
-                )
-            };
-            let (x0, x1) = range(x, piece.origin[0], across);
-            let (y0, y1) = range(y, piece.origin[1], down);
-            for ty in y0..=y1 {
-                for tx in x0..=x1 {
-                    visible[first_tile[p] + (ty * across + tx) as usize] = true;
-                }
-            }
+        texels.extend_from_slice(bytemuck::cast_slice::<u8, [u32; 4]>(
+            &row[..TILE_TEXEL * width as usize],
+        ));
+    }
+    Ok(texels)
+}
+
+/// Per group of `groups` (one per vertex of `mesh`, under `count`), the pixels whose
+/// centre shows it nearest in a `width` x `height` frame with the frame uniforms of
+/// `frame_bind_group` (the mesh hiding itself, two-sided).
+pub(crate) fn visible_pixels(
+    gpu: &Gpu,
+    frame_layout: &wgpu::BindGroupLayout,
+    frame_bind_group: &wgpu::BindGroup,
+    (mesh, groups, count): (&SurfaceMesh, &[u32], usize),
+    (width, height): (u32, u32),
+) -> Result<Vec<u64>> {
+    let mut pixels = vec![0u64; count];
+    if mesh.is_empty() {
+        return Ok(pixels);
+    }
+    let texels = id_frame(
+        gpu,
+        frame_layout,
+        frame_bind_group,
+        (mesh, groups),
+        (width, height),
+    )?;
+    for &[id, ..] in &texels {
+        if let Some(n) = (id as usize).checked_sub(1).and_then(|g| pixels.get_mut(g)) {
+            *n += 1;
         }
     }
-    Ok(visible)
+    Ok(pixels)
+}
+
+/// Per group of `groups` (one per vertex of `mesh`, under `count`), the area in pixels
+/// its triangles cover in `view`, each counted whole whatever hides it: where
+/// [`visible_pixels`] counts what is seen, this counts what could be.
+pub(crate) fn projected_pixels(
+    (mesh, groups, count): (&SurfaceMesh, &[u32], usize),
+    view: &View,
+) -> Vec<f64> {
+    let camera = &view.camera;
+    let (width, height) = (view.width as f32, view.height as f32);
+    // Depth does not change where a point lands on the picture: any near and far do.
+    let clip =
+        camera.projection(width / height.max(1.0), 1.0, 2.0) * camera.view() * camera.model();
+    let screen: Vec<Option<[f32; 2]>> = mesh
+        .positions
+        .iter()
+        .map(|&p| {
+            let c = clip * Vec4::new(p[0], p[1], p[2], 1.0);
+            (c.w > 0.0).then(|| {
+                [
+                    (c.x / c.w + 1.0) * 0.5 * width,
+                    (1.0 - c.y / c.w) * 0.5 * height,
+                ]
+            })
+        })
+        .collect();
+    let mut area = vec![0.0; count];
+    for tri in &mesh.triangles {
+        let corner = |k: usize| screen.get(tri[k] as usize).copied().flatten();
+        let (Some(a), Some(b), Some(c)) = (corner(0), corner(1), corner(2)) else {
+            continue;
+        };
+        let Some(total) = groups
+            .get(tri[0] as usize)
+            .and_then(|&g| area.get_mut(g as usize))
+        else {
+            continue;
+        };
+        let cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        *total += 0.5 * f64::from(cross.abs());
+    }
+    area
 }

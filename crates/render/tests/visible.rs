@@ -1,0 +1,62 @@
+//! `Renderer::visible_fractions`: how much of each of several surfaces the views around
+//! them show, which splits a decimation budget among a model's layer surfaces. CI runs
+//! this file on llvmpipe (GL) and lavapipe (Vulkan).
+
+mod support;
+
+use strata_grid::SurfaceMesh;
+use support::*;
+
+/// A gently curved square of `n` x `n` cells of 10 m at depth offset `z`.
+fn layer(n: usize, z: f32) -> SurfaceMesh {
+    SurfaceMesh::structured(n, n, |i, j| {
+        let (x, y) = (i as f32 * 10.0, j as f32 * 10.0);
+        [x, y, z + 0.002 * (x - 100.0) * (y - 100.0) / 10.0]
+    })
+}
+
+#[test]
+fn a_surface_alone_is_seen_whole() {
+    let mut r = renderer();
+    let one = layer(20, 0.0);
+    let seen = r
+        .visible_fractions(&[&one], 5.0)
+        .expect("visible fractions");
+    assert_eq!(seen.len(), 1);
+    // Pixel centres against the triangles' exact area: only the outline's pixels differ.
+    assert!((seen[0] - 1.0).abs() < 0.03, "{}: {seen:?}", backend(&r));
+}
+
+#[test]
+fn stacked_surfaces_hide_those_between_top_and_bottom() {
+    let mut r = renderer();
+    let stack: Vec<SurfaceMesh> = (0..4).map(|k| layer(20, -2.0 * k as f32)).collect();
+    let seen = r
+        .visible_fractions(&stack.iter().collect::<Vec<_>>(), 5.0)
+        .expect("visible fractions");
+    let name = backend(&r);
+    // Top and bottom show whole from their own side (half the views) and hardly at all
+    // from the other; those between show only a strip at the rim.
+    for &outer in [seen[0], seen[3]].iter() {
+        assert!((0.45..0.6).contains(&outer), "{name}: {seen:?}");
+    }
+    for &inner in &seen[1..3] {
+        assert!(inner < 0.1, "{name}: {seen:?}");
+    }
+    // Moved aside, the second surface no longer lies under the first: it shows from
+    // above as the top does.
+    let mut aside = stack.clone();
+    for p in &mut aside[1].positions {
+        p[0] += 400.0;
+    }
+    let seen = r
+        .visible_fractions(&aside.iter().collect::<Vec<_>>(), 5.0)
+        .expect("visible fractions");
+    assert!(seen[1] > 0.9, "{name}: {seen:?}");
+    // A surface of no triangle covers no pixel.
+    let empty = SurfaceMesh::default();
+    let seen = r
+        .visible_fractions(&[&stack[0], &empty], 5.0)
+        .expect("visible fractions");
+    assert_eq!(seen[1], 0.0, "{name}: {seen:?}");
+}
