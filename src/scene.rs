@@ -44,6 +44,31 @@ pub fn build(
     Ok((mesh, colour_range_of(grid, options)?))
 }
 
+/// The surfaces of [`build`]'s mesh one by one: the top of each drawn layer, the
+/// bottom of the last, and the sides of each run of layers; appended in this order
+/// they are that mesh. For a decimation that splits one budget among them.
+pub fn build_surfaces(grid: &CornerPointGrid, options: &SceneOptions) -> Result<Vec<SurfaceMesh>> {
+    let origin = grid.display_origin();
+    let all = Columns::all(grid.dims());
+    let mut surfaces = Vec::new();
+    for part in parts(grid, options, usize::MAX)? {
+        let layers = match &part {
+            Part::Tops(run) => run.clone().map(|k| Part::Tops(k..k + 1)).collect(),
+            _ => vec![part],
+        };
+        for layer in &layers {
+            let mesh = build_part(grid, options, layer, origin, &all)?;
+            if !mesh.is_empty() {
+                surfaces.push(mesh);
+            }
+        }
+    }
+    if surfaces.is_empty() {
+        return Err(nothing_to_draw(grid, options));
+    }
+    Ok(surfaces)
+}
+
 /// The error of a scene whose layers have no face to draw.
 pub fn nothing_to_draw(grid: &CornerPointGrid, options: &SceneOptions) -> anyhow::Error {
     let layers = options.layers.clone().unwrap_or(0..grid.dims().nz);

@@ -10,9 +10,10 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use strata::grid::SurfaceMesh;
 use strata::lod::measure::outline_bound;
 use strata::render::image;
-use strata::scene::{SceneOptions, build};
+use strata::scene::{SceneOptions, build_surfaces};
 
 fn strata(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_strata"))
@@ -262,24 +263,68 @@ fn no_command_writes_over_what_it_reads() {
 #[test]
 fn render_lod_says_when_its_budget_cuts_the_outlines() {
     let grid = strata::grid::open(&sample()).expect("the sample reads");
-    let (scene, _) = build(&grid, &SceneOptions::default()).expect("the sample's surfaces");
-    let bound = outline_bound(&scene);
-    let share = 100.0 * bound.min_triangles as f64 / scene.triangle_count() as f64;
+    let surfaces = build_surfaces(&grid, &SceneOptions::default()).expect("the sample's surfaces");
+    let bounds: Vec<_> = surfaces.iter().map(outline_bound).collect();
+    let triangles: usize = surfaces.iter().map(SurfaceMesh::triangle_count).sum();
+    let least: usize = bounds.iter().map(|b| b.min_triangles).sum();
+    let share = 100.0 * least as f64 / triangles as f64;
     // The sample's fault traces make the bound: between the two budgets below.
     assert!(share > 1.0 && share < 50.0, "outline bound {share:.1} %");
     let dir = tempfile::tempdir().expect("a temporary folder");
     let png = dir.path().join("lod.png");
     let render = |percent: &str| render_sample(&png, "200x150", &["--lod", percent]);
+    // At 1 % the surfaces hidden under others get less than the 1 % each, those seen
+    // more: the note names some of them, with their corners and bounds.
     let below = render("1");
-    assert!(
-        below.contains(&format!(
-            "the {} corners of the outlines, holes and fault traces takes at least {} triangles",
-            bound.corners, bound.min_triangles
-        )),
-        "{below}"
-    );
+    let note = below
+        .split("note: on ")
+        .nth(1)
+        .and_then(|rest| rest.lines().next())
+        .unwrap_or_default();
+    let numbers: Vec<usize> = note
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    let [count, corners, min_triangles] = numbers[..] else {
+        panic!("no note of the outline bound in {below}");
+    };
+    assert!(note.contains("--cover keeps them"), "{below}");
+    let some_surfaces = (1u32..1 << surfaces.len()).any(|set| {
+        let chosen = || bounds.iter().enumerate().filter(|(i, _)| set >> i & 1 == 1);
+        set.count_ones() as usize == count
+            && chosen().map(|(_, b)| b.corners).sum::<usize>() == corners
+            && chosen().map(|(_, b)| b.min_triangles).sum::<usize>() == min_triangles
+    });
+    assert!(some_surfaces, "{below}");
     let above = render("50");
     assert!(!above.contains("corners"), "{above}");
+}
+
+#[test]
+fn render_lod_gives_the_surfaces_seen_the_larger_shares() {
+    let grid = strata::grid::open(&sample()).expect("the sample reads");
+    let surfaces = build_surfaces(&grid, &SceneOptions::default()).expect("the sample's surfaces");
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let printed = render_sample(&dir.path().join("lod.png"), "200x150", &["--lod", "10"]);
+    // "shares L % (surface a, v % of it seen) to M % (surface b, w % seen)"
+    let numbers: Vec<f64> = printed
+        .split("shares ")
+        .nth(1)
+        .and_then(|rest| rest.lines().next())
+        .map(|line| {
+            line.split(|c: char| !(c.is_ascii_digit() || c == '.'))
+                .filter_map(|w| w.parse().ok())
+                .collect()
+        })
+        .unwrap_or_default();
+    let [least, _, least_seen, most, surface, most_seen, ..] = numbers[..] else {
+        panic!("no shares in {printed}");
+    };
+    // The top of the first layer or the bottom of the last, seen from above or below.
+    let outer = [1.0, surfaces.len() as f64];
+    assert!(outer.contains(&surface), "{printed}");
+    assert!(most_seen > 40.0 && least_seen < 10.0, "{printed}");
+    assert!(most > 2.0 * least && least > 0.0, "{printed}");
 }
 
 #[test]

@@ -6,9 +6,11 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, Subcommand};
+use rayon::prelude::*;
 use strata::grid::SurfaceMesh;
 use strata::lod::{
-    BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
+    BuildOptions, CellCover, LodFile, Maker, Options, SurfaceShare, ViewPoint, build_file,
+    decimate_chosen, share_budget,
 };
 use strata::render::glam::Vec3;
 use strata::render::wire::Drawable;
@@ -565,95 +567,185 @@ impl SceneCells {
     }
 }
 
-/// `strata render --lod PERCENT`: `mesh` decimated to `percent` % of its triangles,
-/// its vertical error weighed with the view's exaggeration `z_scale`, and its cells
-/// for drawing it: with `cover`, its outlines only grow outward and the cells mask
-/// it; with `against_cells`, it is drawn against the input's cells, whose values
-/// colour it cell by cell where the scene has a property.
+/// `render --lod`: decimates the scene's `surfaces` (as [`strata::scene::build_surfaces`]
+/// gives them) to `percent` of their triangles in all, split among them by the part of
+/// each seen from around the model ([`Renderer::visible_fractions`], [`share_budget`]),
+/// each surface on its own (on all cores), and appends the results in order. With
+/// `cover` the outlines only grow outward and the cells come back as a mask; with
+/// `against_cells`, the input's cells to colour and line the result by.
 pub fn decimate_scene(
-    mesh: &SurfaceMesh,
+    renderer: &mut Renderer,
+    surfaces: &[SurfaceMesh],
     percent: f64,
     z_scale: f32,
     cover: bool,
     against_cells: bool,
 ) -> Result<(SurfaceMesh, Option<SceneCells>)> {
     let start = Instant::now();
-    let options = Options {
-        z_scale,
-        ..if cover {
-            Options::covering(mesh, percent / 100.0)
-        } else {
-            Options::fraction(mesh, percent / 100.0)
-        }
+    let total: usize = surfaces.iter().map(SurfaceMesh::triangle_count).sum();
+    let budget = (total as f64 * percent / 100.0).round() as usize;
+    let visible = if surfaces.len() > 1 {
+        renderer
+            .visible_fractions(&surfaces.iter().collect::<Vec<_>>(), z_scale)
+            .context("measuring how much of each surface is seen")?
+    } else {
+        vec![1.0; surfaces.len()]
     };
-    let chosen = decimate_chosen(mesh, &options).context("decimating the scene")?;
-    let mut out = chosen.decimated;
-    eprintln!(
-        "decimated by {} {} -> {} triangles ({:.1} %), {} new or moved vertices, error {:.3} in {:.2} s",
-        match chosen.maker {
-            Maker::Strata => "strata",
-            Maker::Meshopt => "meshopt_simplify",
-        },
-        mesh.triangle_count(),
-        out.mesh.triangle_count(),
-        100.0 * out.mesh.triangle_count() as f64 / mesh.triangle_count().max(1) as f64,
-        out.source
+    let shares = share_budget(
+        budget,
+        &surfaces
             .iter()
-            .filter(|&&s| s == strata::lod::NEW)
-            .count(),
-        out.error,
-        start.elapsed().as_secs_f64()
+            .zip(&visible)
+            .map(|(s, &visible)| SurfaceShare {
+                triangles: s.triangle_count(),
+                visible,
+            })
+            .collect::<Vec<_>>(),
     );
-    // The bound is known wherever the target is near enough to it to fall below.
-    if let Some(outline) = chosen.outline
-        && options.target_triangles < outline.min_triangles
-    {
+    let measured = start.elapsed().as_secs_f64();
+    let chosen = surfaces
+        .par_iter()
+        .zip(&shares)
+        .map(|(mesh, &target)| {
+            let fraction = target as f64 / mesh.triangle_count().max(1) as f64;
+            let options = Options {
+                z_scale,
+                target_triangles: target,
+                ..if cover {
+                    Options::covering(mesh, fraction)
+                } else {
+                    Options::fraction(mesh, fraction)
+                }
+            };
+            let chosen = decimate_chosen(mesh, &options)?;
+            let below = chosen
+                .outline
+                .filter(|outline| target < outline.min_triangles);
+            Ok((chosen, below))
+        })
+        .collect::<strata::lod::Result<Vec<_>>>()
+        .context("decimating the scene")?;
+    let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
+    let mut out = SurfaceMesh::with_origin(origin);
+    for (c, _) in &chosen {
+        out.append(&c.decimated.mesh);
+    }
+    let by_meshopt = chosen
+        .iter()
+        .filter(|(c, _)| c.maker == Maker::Meshopt)
+        .count();
+    eprintln!(
+        "decimated {} surfaces {} -> {} triangles ({:.1} %), error up to {:.3}, in {:.2} s \
+         ({:.2} s of it measuring how much of each is seen); {}{}",
+        surfaces.len(),
+        total,
+        out.triangle_count(),
+        100.0 * out.triangle_count() as f64 / total.max(1) as f64,
+        chosen
+            .iter()
+            .map(|(c, _)| c.decimated.error)
+            .fold(0.0f32, f32::max),
+        start.elapsed().as_secs_f64(),
+        measured,
+        shares_seen(&shares, surfaces, &visible),
+        if by_meshopt > 0 {
+            format!("; {by_meshopt} of them by meshopt_simplify")
+        } else {
+            String::new()
+        },
+    );
+    let below: Vec<_> = chosen.iter().filter_map(|(_, b)| *b).collect();
+    if !below.is_empty() {
         eprintln!(
-            "note: keeping the {} corners of the outlines, holes and fault traces takes at \
-             least {} triangles ({:.1} %): below that, decimation cuts corners and moves \
-             those lines by a cell (--cover keeps them)",
-            outline.corners,
-            outline.min_triangles,
-            100.0 * outline.min_triangles as f64 / mesh.triangle_count().max(1) as f64,
+            "note: on {} surfaces the share is below the triangles that keep every corner of \
+             their outlines, holes and fault traces ({} corners, at least {} triangles): \
+             there decimation cuts corners and moves those lines by a cell (--cover keeps them)",
+            below.len(),
+            below.iter().map(|b| b.corners).sum::<usize>(),
+            below.iter().map(|b| b.min_triangles).sum::<usize>(),
         );
     }
-    if let Some((before, after)) = chosen.fitted {
+    let fitted: Vec<(f64, f64)> = chosen.iter().filter_map(|(c, _)| c.fitted).collect();
+    if !fitted.is_empty() {
         eprintln!(
-            "fitted to the grid lines, texture coordinates fixed: their RMS distance \
-             {before:.3} -> {after:.3} (lines it lost counted between its RMS and largest \
-             distance)"
+            "fitted {} surfaces to the grid lines, texture coordinates fixed: the largest \
+             RMS distance of their lines {:.3} -> {:.3} (lines a surface lost counted between \
+             its RMS and largest distance)",
+            fitted.len(),
+            fitted.iter().map(|f| f.0).fold(0.0, f64::max),
+            fitted.iter().map(|f| f.1).fold(0.0, f64::max),
         );
     }
-    if out.mesh.is_empty() {
+    if out.is_empty() {
         return Err(anyhow!("decimation left no triangle"));
     }
-    let coloured = against_cells && !mesh.scalars.is_empty();
-    let cells = match out.cover.take() {
-        Some(cells) => Some((cells, true)),
-        None if against_cells => match CellCover::of(mesh) {
-            Ok(cells) => Some((cells, false)),
-            Err(e) => {
-                eprintln!("note: colours are interpolated between nodes: {e}");
-                None
-            }
-        },
-        None => None,
-    };
-    let cells = match cells {
-        Some((cover, mask)) => Some(SceneCells {
-            pieces: out.pieces(mesh, &cover),
-            values: if coloured {
-                Some(cover.values(mesh).context("the scene's cell values")?)
-            } else {
-                None
+    let coloured = against_cells && !surfaces.iter().all(|s| s.scalars.is_empty());
+    // Each surface's cells, as its cover came back or made here, appended as the
+    // meshes are, and each result's vertices named by their piece among them.
+    let mut cells = CellCover::default();
+    let mut pieces = Vec::with_capacity(out.vertex_count());
+    for (mesh, (c, _)) in surfaces.iter().zip(chosen) {
+        let own = match c.decimated.cover.clone() {
+            Some(own) => own,
+            None if against_cells => match CellCover::of(mesh) {
+                Ok(own) => own,
+                Err(e) => {
+                    eprintln!("note: colours are interpolated between nodes: {e}");
+                    return Ok((out, None));
+                }
             },
-            corners: None,
-            cover,
-            mask,
-        }),
-        None => None,
+            None => return Ok((out, None)),
+        };
+        let first = cells.pieces.len() as u32;
+        pieces.extend(
+            c.decimated
+                .pieces(mesh, &own)
+                .into_iter()
+                .map(|p| p.saturating_add(first)),
+        );
+        cells.append(&own);
+    }
+    let values = if coloured {
+        let mut input = SurfaceMesh::with_origin(origin);
+        for s in surfaces {
+            input.append(s);
+        }
+        Some(cells.values(&input).context("the scene's cell values")?)
+    } else {
+        None
     };
-    Ok((out.mesh, cells))
+    Ok((
+        out,
+        Some(SceneCells {
+            pieces,
+            values,
+            corners: None,
+            cover: cells,
+            mask: cover,
+        }),
+    ))
+}
+
+/// How the budget went: the share of each surface's triangles kept, the least and
+/// the most, and the visible fraction of those surfaces.
+fn shares_seen(shares: &[usize], surfaces: &[SurfaceMesh], visible: &[f64]) -> String {
+    let kept = |i: usize| shares[i] as f64 / surfaces[i].triangle_count().max(1) as f64;
+    let order = |a: &usize, b: &usize| kept(*a).total_cmp(&kept(*b));
+    let (Some(least), Some(most)) = (
+        (0..shares.len()).min_by(order),
+        (0..shares.len()).max_by(order),
+    ) else {
+        return String::new();
+    };
+    format!(
+        "shares {:.1} % (surface {}, {:.0} % of it seen) to {:.1} % (surface {}, {:.0} % seen)",
+        100.0 * kept(least),
+        least + 1,
+        100.0 * visible[least],
+        100.0 * kept(most),
+        most + 1,
+        100.0 * visible[most],
+    )
 }
 
 /// `--lod PERCENT`: a share of the triangles in (0, 100].

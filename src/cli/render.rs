@@ -50,13 +50,15 @@ pub struct RenderArgs {
     /// paper2011 (the latter moves lines: kept to show it).
     #[arg(long, default_value = "on", value_parser = parse_adjust)]
     iso_adjust: RangeAdjust,
-    /// Decimate the drawn surfaces to PERCENT of their triangles (strata-lod) and draw
+    /// Decimate the drawn surfaces (strata-lod) to PERCENT of their triangles in all,
+    /// split among them by how much of each the views around the model show (the tops
+    /// between the first and the last hide under the others and keep fewer), and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
     /// the decimated triangles (quad, which needs cell faces, is refused). With global
     /// or none, each cell keeps its own colour (looked up by the global coordinates);
     /// with the others, colours are interpolated between nodes (decimated triangles are
-    /// no longer cells). Says when PERCENT is below the triangles that keep every corner
-    /// of the outlines, holes and fault traces; there meshoptimizer's simplify
+    /// no longer cells). Says when a surface's share is below the triangles that keep
+    /// every corner of its outlines, holes and fault traces; there meshoptimizer's simplify
     /// decimates instead, its result fitted to the original grid lines (as strata's
     /// is up to 2.5 times above that). With --iso the isolines are the original's:
     /// each fragment evaluates the original surface's field from its global
@@ -135,7 +137,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if scene::drawn_in_parts(&parts) {
         return draw_in_parts(args, &grid, &options, parts, start);
     }
-    let (mesh, range) = build(&grid, &options)?;
     if args.cover && wire != WireMode::Global {
         bail!("--cover draws with --wire global, not {}", wire.name());
     }
@@ -143,15 +144,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // The global coordinates find the original's cells, their colours and isolines,
     // with or without the original's grid lines over them.
     let by_cells = global || wire == WireMode::None;
-    let (mesh, mut cells) = match args.lod {
-        Some(percent) => super::lod::decimate_scene(
-            &mesh,
-            percent,
-            args.frame.zscale,
-            args.cover,
-            by_cells && (!mesh.scalars.is_empty() || args.iso.is_some()),
-        )?,
-        None => (mesh, None),
+    let mut renderer = Renderer::headless()?;
+    let (mesh, range, mut cells) = match args.lod {
+        Some(percent) => {
+            let surfaces = scene::build_surfaces(&grid, &options)?;
+            let coloured = surfaces.iter().any(|s| !s.scalars.is_empty());
+            let (mesh, cells) = super::lod::decimate_scene(
+                &mut renderer,
+                &surfaces,
+                percent,
+                args.frame.zscale,
+                args.cover,
+                by_cells && (coloured || args.iso.is_some()),
+            )?;
+            (mesh, scene::colour_range_of(&grid, &options)?, cells)
+        }
+        None => {
+            let (mesh, range) = build(&grid, &options)?;
+            (mesh, range, None)
+        }
     };
     if args.lod.is_some() && !mesh.scalars.is_empty() && !by_cells {
         eprintln!(
@@ -186,7 +197,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let loaded = Instant::now();
 
-    let mut renderer = Renderer::headless()?;
     let drawable = match (&cells, &iso) {
         (Some(cells), _) => renderer
             .prepare_cells(&mesh, &cells.draw(global))
