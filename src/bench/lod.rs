@@ -3,8 +3,10 @@
 //!
 //! Fidelity, for every real model of the shared data folder (all its layer surfaces,
 //! as `strata render` draws them: the top of every layer and the bottom of the last)
-//! and budgets of 50, 20, 10, 5 and 2 % of the triangles (each layer surface
-//! decimated to that share):
+//! and budgets of 50, 20, 10, 5 and 2 % of the triangles (the model's budget split
+//! among its layer surfaces by how much of each is seen, `strata_lod::share_budget`
+//! as `strata render --lod` splits it, for every simplifier alike; `strata_even`
+//! is `strata` with the budget split evenly, each surface at that share of its own):
 //! * geometric: points along every original cell edge (4 per edge) against the point
 //!   of the decimated surface with the same texture coordinates, in the display frame
 //!   with the vertical exaggeration of the views (5): largest and RMS distance, also
@@ -68,8 +70,8 @@ use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface
 use strata_lod::baseline::{ClusterLod, Simplifier, simplify, submesh};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
 use strata_lod::{
-    BuildOptions, CellCover, Decimated, LodFile, Maker, Options, Placement, ViewPoint, build_file,
-    decimate, decimate_chosen,
+    BuildOptions, CellCover, Decimated, LodFile, Maker, Options, Placement, SurfaceShare,
+    ViewPoint, build_file, decimate, decimate_chosen, share_budget,
 };
 use strata_render::glam::Vec3;
 use strata_render::{Camera, CellDraw, Renderer, Style, TiledCells, View, WireMode};
@@ -149,10 +151,15 @@ pub struct Outline {
     pub min_triangles: usize,
     /// Triangles at the goal's budget (10 %), summed as the surfaces are decimated.
     pub goal_budget_triangles: usize,
-    /// Layer surfaces whose 10 % budget is below their own `min_triangles`: there any
-    /// simplifier must cut outline corners.
+    /// Layer surfaces whose share of the 10 % budget is below their own
+    /// `min_triangles`: there any simplifier must cut outline corners.
     pub layers_below: usize,
     pub layers: usize,
+    /// Per layer surface (tops, then the bottom of the last), the fraction of it seen
+    /// from around the model (`Renderer::visible_fractions`).
+    pub visible: Vec<f64>,
+    /// Per layer surface, its share of the 10 % budget.
+    pub goal_split: Vec<usize>,
 }
 
 /// One model, simplifier and budget.
@@ -310,6 +317,9 @@ enum Method {
     /// What strata draws with ([`decimate_chosen`]): ours (fitted to the grid lines
     /// near the outline bound), or meshopt_simplify's fitted to them below it.
     Strata,
+    /// The same, with the budget split evenly among the layer surfaces (each keeps the
+    /// same share of its triangles) instead of by how much of each is seen.
+    StrataEven,
     /// Ours alone.
     Ours(Placement),
     /// Ours with outlines that only grow outward, drawn with the cell mask.
@@ -321,6 +331,7 @@ impl Method {
     fn all() -> Vec<Method> {
         [
             Method::Strata,
+            Method::StrataEven,
             Method::Ours(Placement::Surface),
             Method::Ours(Placement::Optimal),
             Method::OursCover,
@@ -333,6 +344,7 @@ impl Method {
     fn name(self) -> &'static str {
         match self {
             Method::Strata => "strata",
+            Method::StrataEven => "strata_even",
             Method::Ours(Placement::Surface) => "strata_alone",
             Method::Ours(Placement::Optimal) => "strata_optimal",
             Method::OursCover => "strata_cover",
@@ -340,9 +352,10 @@ impl Method {
         }
     }
 
-    /// The decimation, and whether meshoptimizer made it for [`Method::Strata`].
-    fn run(self, mesh: &SurfaceMesh, fraction: f64) -> Result<(Decimated, bool)> {
-        let target = budget_of(mesh, fraction);
+    /// The decimation of `mesh` to `target` triangles, and whether meshoptimizer made
+    /// it for [`Method::Strata`].
+    fn run(self, mesh: &SurfaceMesh, target: usize) -> Result<(Decimated, bool)> {
+        let fraction = target as f64 / mesh.triangle_count().max(1) as f64;
         let ours = |placement| Options {
             target_triangles: target,
             z_scale: Z_SCALE,
@@ -350,7 +363,7 @@ impl Method {
             ..Options::default()
         };
         Ok(match self {
-            Method::Strata => {
+            Method::Strata | Method::StrataEven => {
                 let chosen = decimate_chosen(mesh, &ours(Placement::Surface))?;
                 (chosen.decimated, chosen.maker == Maker::Meshopt)
             }
@@ -375,6 +388,25 @@ impl Method {
 /// The triangles a layer surface is decimated to at `fraction` of its own.
 fn budget_of(mesh: &SurfaceMesh, fraction: f64) -> usize {
     (mesh.triangle_count() as f64 * fraction).round() as usize
+}
+
+/// Per layer surface, its triangles at `fraction` of the model's: split by how much of
+/// each is seen (`strata_lod::share_budget`, as `strata render --lod` splits it), or
+/// evenly, each at `fraction` of its own.
+fn targets(layers: &[SurfaceMesh], visible: &[f64], fraction: f64, even: bool) -> Vec<usize> {
+    if even {
+        return layers.iter().map(|m| budget_of(m, fraction)).collect();
+    }
+    let total: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
+    let shares: Vec<SurfaceShare> = layers
+        .iter()
+        .zip(visible)
+        .map(|(m, &visible)| SurfaceShare {
+            triangles: m.triangle_count(),
+            visible,
+        })
+        .collect();
+    share_budget((total as f64 * fraction).round() as usize, &shares)
 }
 
 /// The layer surfaces of `grid` as `strata render` draws them, with PORO as scalar
@@ -646,12 +678,16 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
 
     let mut outlines = Vec::new();
     for (label, layers) in &models {
+        let visible = if layers.len() > 1 {
+            renderer.visible_fractions(&layers.iter().collect::<Vec<_>>(), Z_SCALE)?
+        } else {
+            vec![1.0; layers.len()]
+        };
+        let goal_split = targets(layers, &visible, GOAL_BUDGET / 100.0, false);
         let bounds: Vec<(usize, OutlineBound)> = layers
             .iter()
-            .map(|m| {
-                let budget = (m.triangle_count() as f64 * GOAL_BUDGET / 100.0).round() as usize;
-                (budget, outline_bound(m))
-            })
+            .zip(&goal_split)
+            .map(|(m, &budget)| (budget, outline_bound(m)))
             .collect();
         let outline = Outline {
             model: label.clone(),
@@ -661,6 +697,8 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
             goal_budget_triangles: bounds.iter().map(|(n, _)| n).sum(),
             layers_below: bounds.iter().filter(|(n, b)| *n < b.min_triangles).count(),
             layers: layers.len(),
+            visible: visible.clone(),
+            goal_split,
         };
         if outline.layers_below > 0 {
             notes.push(format!(
@@ -718,8 +756,15 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
         );
         for method in Method::all() {
             for &budget in config.budgets {
+                let split = targets(
+                    layers,
+                    &visible,
+                    budget / 100.0,
+                    method == Method::StrataEven,
+                );
+                let jobs: Vec<(&SurfaceMesh, usize)> = layers.iter().zip(split.clone()).collect();
                 let (decimated, by_meshopt): (Vec<Decimated>, Vec<bool>) =
-                    par_map(layers, cores, |m| method.run(m, budget / 100.0))
+                    par_map(&jobs, cores, |&(m, target)| method.run(m, target))
                         .into_iter()
                         .collect::<Result<Vec<_>>>()?
                         .into_iter()
@@ -800,7 +845,7 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                     simplifier: method.name().to_string(),
                     budget_percent: budget,
                     triangles: original.triangle_count(),
-                    budget_triangles: layers.iter().map(|m| budget_of(m, budget / 100.0)).sum(),
+                    budget_triangles: split.iter().sum(),
                     kept_triangles: mesh.triangle_count(),
                     line_max,
                     line_rms,
@@ -852,7 +897,7 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
         // the generated 2000x2000 layer took 3.6 s of system time cold and 0.9 s in
         // the next runs (0.77 against 1.05 M triangles per CPU second).
         for layer in layers {
-            Method::Strata.run(layer, GOAL_BUDGET / 100.0)?;
+            Method::Strata.run(layer, budget_of(layer, GOAL_BUDGET / 100.0))?;
         }
         let mut runs: Vec<(Method, usize)> = Method::all().into_iter().map(|m| (m, 1)).collect();
         if layers.len() > 1 && cores > 1 {
@@ -866,11 +911,12 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
             let (wall, cpu) = (Instant::now(), cpu_times());
             let mut repeats = 0;
             let (results, user, system) = loop {
-                let results: Vec<Decimated> =
-                    par_map(layers, threads, |m| method.run(m, GOAL_BUDGET / 100.0))
-                        .into_iter()
-                        .map(|r| r.map(|(d, _)| d))
-                        .collect::<Result<_>>()?;
+                let results: Vec<Decimated> = par_map(layers, threads, |m| {
+                    method.run(m, budget_of(m, GOAL_BUDGET / 100.0))
+                })
+                .into_iter()
+                .map(|r| r.map(|(d, _)| d))
+                .collect::<Result<_>>()?;
                 repeats += 1;
                 let due = wall.elapsed().as_secs_f64() * threads as f64 >= MIN_CPU_SECONDS;
                 if !due && repeats < MAX_REPEATS {
