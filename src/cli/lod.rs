@@ -681,11 +681,13 @@ pub fn decimate_scene(
     }
     let coloured = against_cells && !surfaces.iter().all(|s| s.scalars.is_empty());
     // Each surface's cells, as its cover came back or made here, appended as the
-    // meshes are, and each result's vertices named by their piece among them.
+    // meshes are, each result's vertices named by their piece among them, and the
+    // cells' values surface by surface, in the order of the appended cover.
     let mut cells = CellCover::default();
     let mut pieces = Vec::with_capacity(out.vertex_count());
-    for (mesh, (c, _)) in surfaces.iter().zip(chosen) {
-        let own = match c.decimated.cover.clone() {
+    let mut values = coloured.then(Vec::new);
+    for (mesh, (mut c, _)) in surfaces.iter().zip(chosen) {
+        let own = match c.decimated.cover.take() {
             Some(own) => own,
             None if against_cells => match CellCover::of(mesh) {
                 Ok(own) => own,
@@ -703,17 +705,11 @@ pub fn decimate_scene(
                 .into_iter()
                 .map(|p| p.saturating_add(first)),
         );
+        if let Some(values) = &mut values {
+            values.extend(own.values(mesh).context("the scene's cell values")?);
+        }
         cells.append(&own);
     }
-    let values = if coloured {
-        let mut input = SurfaceMesh::with_origin(origin);
-        for s in surfaces {
-            input.append(s);
-        }
-        Some(cells.values(&input).context("the scene's cell values")?)
-    } else {
-        None
-    };
     Ok((
         out,
         Some(SceneCells {
