@@ -70,8 +70,8 @@ use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface
 use strata_lod::baseline::{ClusterLod, Simplifier, simplify, submesh};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
 use strata_lod::{
-    BuildOptions, CellCover, Decimated, LodFile, Maker, Options, Placement, SurfaceShare,
-    ViewPoint, build_file, decimate, decimate_chosen, share_budget,
+    BuildOptions, CellCover, Decimated, LodFile, Maker, Options, Placement, ViewPoint, build_file,
+    decimate, decimate_chosen, share_surfaces,
 };
 use strata_render::glam::Vec3;
 use strata_render::{Camera, CellDraw, Renderer, Style, TiledCells, View, WireMode};
@@ -391,22 +391,13 @@ fn budget_of(mesh: &SurfaceMesh, fraction: f64) -> usize {
 }
 
 /// Per layer surface, its triangles at `fraction` of the model's: split by how much of
-/// each is seen (`strata_lod::share_budget`, as `strata render --lod` splits it), or
+/// each is seen (`strata_lod::share_surfaces`, as `strata render --lod` splits it), or
 /// evenly, each at `fraction` of its own.
 fn targets(layers: &[SurfaceMesh], visible: &[f64], fraction: f64, even: bool) -> Vec<usize> {
     if even {
         return layers.iter().map(|m| budget_of(m, fraction)).collect();
     }
-    let total: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
-    let shares: Vec<SurfaceShare> = layers
-        .iter()
-        .zip(visible)
-        .map(|(m, &visible)| SurfaceShare {
-            triangles: m.triangle_count(),
-            visible,
-        })
-        .collect();
-    share_budget((total as f64 * fraction).round() as usize, &shares)
+    share_surfaces(fraction, layers, visible)
 }
 
 /// The layer surfaces of `grid` as `strata render` draws them, with PORO as scalar

@@ -9,8 +9,8 @@ use clap::{Args, Subcommand};
 use rayon::prelude::*;
 use strata::grid::SurfaceMesh;
 use strata::lod::{
-    BuildOptions, CellCover, LodFile, Maker, Options, SurfaceShare, ViewPoint, build_file,
-    decimate_chosen, share_budget,
+    BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
+    share_surfaces,
 };
 use strata::render::glam::Vec3;
 use strata::render::wire::Drawable;
@@ -569,8 +569,8 @@ impl SceneCells {
 
 /// `render --lod`: decimates the scene's `surfaces` (as [`strata::scene::build_surfaces`]
 /// gives them) to `percent` of their triangles in all, split among them by the part of
-/// each seen from around the model ([`Renderer::visible_fractions`], [`share_budget`]),
-/// each surface on its own (on all cores), and appends the results in order. With
+/// each seen from around the model ([`Renderer::visible_fractions`],
+/// `strata_lod::share_surfaces`), each surface on its own (on all cores), and appends the results in order. With
 /// `cover` the outlines only grow outward and the cells come back as a mask; with
 /// `against_cells`, the input's cells to colour and line the result by.
 pub fn decimate_scene(
@@ -583,7 +583,6 @@ pub fn decimate_scene(
 ) -> Result<(SurfaceMesh, Option<SceneCells>)> {
     let start = Instant::now();
     let total: usize = surfaces.iter().map(SurfaceMesh::triangle_count).sum();
-    let budget = (total as f64 * percent / 100.0).round() as usize;
     let visible = if surfaces.len() > 1 {
         renderer
             .visible_fractions(&surfaces.iter().collect::<Vec<_>>(), z_scale)
@@ -591,17 +590,7 @@ pub fn decimate_scene(
     } else {
         vec![1.0; surfaces.len()]
     };
-    let shares = share_budget(
-        budget,
-        &surfaces
-            .iter()
-            .zip(&visible)
-            .map(|(s, &visible)| SurfaceShare {
-                triangles: s.triangle_count(),
-                visible,
-            })
-            .collect::<Vec<_>>(),
-    );
+    let shares = share_surfaces(percent / 100.0, surfaces, &visible);
     let measured = start.elapsed().as_secs_f64();
     let chosen = surfaces
         .par_iter()

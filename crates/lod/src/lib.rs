@@ -44,4 +44,4 @@ pub use file::{
 };
 pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
 pub use reference::{NONE, Reference, SurfacePoint, closest_on_triangle};
-pub use share::{MIN_VISIBLE, SurfaceShare, share_budget};
+pub use share::{MIN_VISIBLE, SurfaceShare, share_budget, share_surfaces};

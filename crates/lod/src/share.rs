@@ -13,6 +13,8 @@
 //! seen at a quarter of its area keeps half the density of one seen whole, and
 //! surfaces all seen whole split the budget evenly, as before.
 
+use strata_grid::SurfaceMesh;
+
 /// A surface to share a budget with: its triangles and the fraction of it seen.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceShare {
@@ -118,6 +120,21 @@ pub fn share_budget(budget: usize, surfaces: &[SurfaceShare]) -> Vec<usize> {
         }
     }
     shares
+}
+
+/// [`share_budget`] of `fraction` of all the triangles of `surfaces`, each seen at its
+/// fraction in `visible` (a surface without one counts as unmeasured).
+pub fn share_surfaces(fraction: f64, surfaces: &[SurfaceMesh], visible: &[f64]) -> Vec<usize> {
+    let total: usize = surfaces.iter().map(SurfaceMesh::triangle_count).sum();
+    let shares: Vec<SurfaceShare> = surfaces
+        .iter()
+        .enumerate()
+        .map(|(i, s)| SurfaceShare {
+            triangles: s.triangle_count(),
+            visible: visible.get(i).copied().unwrap_or(f64::NAN),
+        })
+        .collect();
+    share_budget((total as f64 * fraction).round() as usize, &shares)
 }
 
 #[cfg(test)]
