@@ -148,6 +148,13 @@ pub struct Renderer {
     targets: Option<Targets>,
 }
 
+/// A renderer moves between threads (a viewer's render thread; a test binary's one
+/// renderer, lent to its tests in turn).
+const _: fn() = || {
+    fn send<T: Send>() {}
+    send::<Renderer>();
+};
+
 /// `f`, with a GPU validation error it raises returned as an error.
 fn validated<T>(gpu: &Gpu, f: impl FnOnce() -> Result<T>) -> Result<T> {
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);

@@ -19,7 +19,7 @@
 //! dashed; CEHS and CEHD keep the contour edges, found per frame in the vertex shader
 //! from the vertices opposite each edge.
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
@@ -65,7 +65,7 @@ enum Pass {
 }
 
 pub struct BiasTechnique {
-    pipelines: Rc<LazyPipelines<Pass>>,
+    pipelines: Arc<LazyPipelines<Pass>>,
     layout: wgpu::BindGroupLayout,
 }
 
@@ -197,7 +197,7 @@ impl Technique for BiasTechnique {
 }
 
 struct BiasDraw {
-    pipelines: Rc<LazyPipelines<Pass>>,
+    pipelines: Arc<LazyPipelines<Pass>>,
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     /// Two vertex indices per edge, for the classic one-pixel lines.

@@ -19,8 +19,7 @@
 //! only their edges, dashed; CEHS and CEHD keep the contour edges only, found per frame
 //! from the vertex across each edge.
 
-use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use strata_grid::SurfaceMesh;
 
@@ -49,12 +48,12 @@ struct Prepass {
     device: wgpu::Device,
     layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
-    built: RefCell<[Option<wgpu::ComputePipeline>; 2]>,
+    built: Mutex<[Option<wgpu::ComputePipeline>; 2]>,
 }
 
 impl Prepass {
     fn get(&self, contours: bool) -> wgpu::ComputePipeline {
-        let mut built = self.built.borrow_mut();
+        let mut built = self.built.lock().unwrap_or_else(PoisonError::into_inner);
         built[usize::from(contours)]
             .get_or_insert_with(|| {
                 let constants = [("CONTOURS", f64::from(u8::from(contours)))];
@@ -93,9 +92,9 @@ fn buffer_entry(
 }
 
 pub struct DistTechnique {
-    pipelines: Rc<LazyPipelines<Variant>>,
-    prepass: Rc<Prepass>,
-    layouts: Rc<Layouts>,
+    pipelines: Arc<LazyPipelines<Variant>>,
+    prepass: Arc<Prepass>,
+    layouts: Arc<Layouts>,
 }
 
 impl DistTechnique {
@@ -108,7 +107,7 @@ impl DistTechnique {
             })
         };
         let (vertex, compute) = (wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::COMPUTE);
-        let layouts = Rc::new(Layouts {
+        let layouts = Arc::new(Layouts {
             compute: layout(
                 "dist prepass",
                 &[
@@ -121,7 +120,7 @@ impl DistTechnique {
             draw: storage_layout(device, "dist after prepass", &[0, 1, 2, 4], vertex),
         });
         let module = shader(device, "dist", include_str!("distance.wgsl"));
-        let prepass = Rc::new(Prepass {
+        let prepass = Arc::new(Prepass {
             device: device.clone(),
             layout: device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("dist prepass"),
@@ -129,7 +128,7 @@ impl DistTechnique {
                 immediate_size: 0,
             }),
             module: module.clone(),
-            built: RefCell::new([None, None]),
+            built: Mutex::new([None, None]),
         });
         let l = layouts.clone();
         let pipelines = LazyPipelines::new(ctx, move |v: Variant, device, frame_layout| {
@@ -207,8 +206,8 @@ struct Chunk {
 }
 
 struct DistDraw {
-    pipelines: Rc<LazyPipelines<Variant>>,
-    prepass: Rc<Prepass>,
+    pipelines: Arc<LazyPipelines<Variant>>,
+    prepass: Arc<Prepass>,
     draws: Vec<Chunk>,
     triangles: usize,
     bytes: u64,

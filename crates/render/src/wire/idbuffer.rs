@@ -20,7 +20,7 @@
 //! that shading mixes under the visible lines; CEHS/CEHD keep contour edges only.
 
 use std::cell::RefCell;
-use std::rc::Rc;
+use std::sync::Arc;
 
 use strata_grid::SurfaceMesh;
 
@@ -58,8 +58,8 @@ struct Layouts {
 }
 
 pub struct IdBufferTechnique {
-    pipelines: Rc<LazyPipelines<Pass>>,
-    layouts: Rc<Layouts>,
+    pipelines: Arc<LazyPipelines<Pass>>,
+    layouts: Arc<Layouts>,
 }
 
 fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
@@ -85,7 +85,7 @@ impl IdBufferTechnique {
                 entries,
             })
         };
-        let layouts = Rc::new(Layouts {
+        let layouts = Arc::new(Layouts {
             polygons: storage_layout(device, "idbuffer polygons", &[0, 1, 2], vertex),
             edges: storage_layout(device, "idbuffer edges", &[0, 1, 3], vertex),
             tests: texture_layout(
@@ -234,8 +234,8 @@ struct IdTargets {
 
 struct IdBufferDraw {
     device: wgpu::Device,
-    pipelines: Rc<LazyPipelines<Pass>>,
-    layouts: Rc<Layouts>,
+    pipelines: Arc<LazyPipelines<Pass>>,
+    layouts: Arc<Layouts>,
     /// Per chunk of triangles: bind group and vertex count.
     polygons: Vec<(wgpu::BindGroup, u32)>,
     /// Per chunk of edges: bind group and vertex count.

@@ -9,10 +9,9 @@
 //! Emmerik's CEHS/CEHD) per frame: the edge is on the outline when it has one
 //! triangle, on the silhouette when its two triangles face opposite ways.
 
-use std::cell::RefCell;
 use std::collections::HashMap;
 use std::hash::Hash;
-use std::rc::Rc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
@@ -506,20 +505,24 @@ impl<'a> PassSpec<'a> {
 pub(crate) struct LazyPipelines<K> {
     device: wgpu::Device,
     frame_layout: wgpu::BindGroupLayout,
-    built: RefCell<HashMap<K, wgpu::RenderPipeline>>,
+    built: Mutex<HashMap<K, wgpu::RenderPipeline>>,
     #[allow(clippy::type_complexity)]
-    make: Box<dyn Fn(K, &wgpu::Device, &wgpu::BindGroupLayout) -> wgpu::RenderPipeline>,
+    make:
+        Box<dyn Fn(K, &wgpu::Device, &wgpu::BindGroupLayout) -> wgpu::RenderPipeline + Send + Sync>,
 }
 
 impl<K: Copy + Eq + Hash> LazyPipelines<K> {
     pub fn new(
         ctx: &PipelineContext,
-        make: impl Fn(K, &wgpu::Device, &wgpu::BindGroupLayout) -> wgpu::RenderPipeline + 'static,
-    ) -> Rc<Self> {
-        Rc::new(LazyPipelines {
+        make: impl Fn(K, &wgpu::Device, &wgpu::BindGroupLayout) -> wgpu::RenderPipeline
+        + Send
+        + Sync
+        + 'static,
+    ) -> Arc<Self> {
+        Arc::new(LazyPipelines {
             device: ctx.gpu.device.clone(),
             frame_layout: ctx.frame_layout.clone(),
-            built: RefCell::new(HashMap::new()),
+            built: Mutex::new(HashMap::new()),
             make: Box::new(make),
         })
     }
@@ -527,7 +530,8 @@ impl<K: Copy + Eq + Hash> LazyPipelines<K> {
     /// The pipeline of variant `key`.
     pub fn get(&self, key: K) -> wgpu::RenderPipeline {
         self.built
-            .borrow_mut()
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
             .entry(key)
             .or_insert_with(|| (self.make)(key, &self.device, &self.frame_layout))
             .clone()

@@ -151,8 +151,9 @@ impl FrameTargets<'_> {
     }
 }
 
-/// A wireframe technique: turns a mesh into what it draws.
-pub trait Technique {
+/// A wireframe technique: turns a mesh into what it draws. `Send`, so that a
+/// [`Renderer`](crate::Renderer) holding its techniques can move between threads.
+pub trait Technique: Send {
     fn mode(&self) -> WireMode;
     /// Uploads `mesh` in this technique's form (retained mode). Fails when the mesh
     /// lacks what the technique needs (e.g. cell faces for `quad`).

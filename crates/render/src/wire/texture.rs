@@ -928,7 +928,8 @@ mod tests {
     use strata_grid::CellFace;
 
     use super::*;
-    use crate::{Camera, Renderer, Style, View};
+    use crate::renderer::test_renderer;
+    use crate::{Camera, Style, View};
 
     /// Nine separate blocks of 6 x 6 cells (cells (i, j) with i % 8 < 6 and j % 8 < 6
     /// of a flat 24 x 24 grid), valued in a pattern the zero vertex scalars do not
@@ -976,7 +977,7 @@ mod tests {
         let corners = cover.corner_values(&field).expect("corner values");
         // Header, bits, and the values and the corners, each with a one-tile table.
         let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 1 + 36 + 1 + 4 * 36;
-        let mut r = Renderer::headless().expect("renderer");
+        let mut r = test_renderer();
         let technique = CellTechnique::new(&r.context(), false, true);
         let draw = |values, corners| CellDraw {
             pieces: &cover.vertex_piece,
