@@ -473,6 +473,7 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
+    use crate::renderer::test_renderer;
     use crate::{Camera, Renderer, Style, View};
 
     /// One triangle whose isoline coordinates are s = (2.6, 3.1, 3.4): the line s = 3
@@ -533,7 +534,7 @@ mod tests {
 
     #[test]
     fn papers_formulas() {
-        let mut r = Renderer::headless().expect("renderer");
+        let mut r = test_renderer();
         let off = adjusted(&mut r, RangeAdjust::Off, 3.0);
         assert!(
             (off[0] - 2.6).abs() < 1e-5 && (off[2] - 3.4).abs() < 1e-5,
@@ -593,19 +594,21 @@ mod tests {
             adjust: RangeAdjust::On,
             wire: true,
         };
-        let draw = |binding: Option<u64>| {
-            let mut r = Renderer::headless().expect("renderer");
+        let mut r = test_renderer();
+        let mut draw = |binding: Option<u64>| {
+            let limit = r.gpu.limits.max_storage_buffer_binding_size;
             if let Some(bytes) = binding {
                 r.gpu.limits.max_storage_buffer_binding_size = bytes;
             }
-            let drawable = r.prepare_isolines(&mesh, None, options).expect("prepared");
-            let image = r
-                .render(&[drawable.as_ref()], &view, &style)
-                .expect("frame");
-            let s = r
-                .isoline_coordinates(&mesh, None, options.adjust, &view, &style)
-                .expect("prepass");
-            (image, s)
+            let drawn = r
+                .prepare_isolines(&mesh, None, options)
+                .and_then(|drawable| {
+                    let image = r.render(&[drawable.as_ref()], &view, &style)?;
+                    let s = r.isoline_coordinates(&mesh, None, options.adjust, &view, &style)?;
+                    Ok((image, s))
+                });
+            r.gpu.limits.max_storage_buffer_binding_size = limit;
+            drawn.expect("drawn")
         };
         let (whole, whole_s) = draw(None);
         // Bindings of 37 triangles' corners: 11 chunks.

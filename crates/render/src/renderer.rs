@@ -155,6 +155,18 @@ const _: fn() = || {
     send::<Renderer>();
 };
 
+/// The one renderer of a unit-test binary, lent to one test at a time. Tests that each
+/// open a device and drop it while others draw hung NVIDIA's Vulkan driver (580, on
+/// an H200): `vkDestroyDevice` deadlocked with other threads' submissions.
+#[cfg(test)]
+pub(crate) fn test_renderer() -> std::sync::MutexGuard<'static, Renderer> {
+    static SHARED: std::sync::OnceLock<std::sync::Mutex<Renderer>> = std::sync::OnceLock::new();
+    SHARED
+        .get_or_init(|| std::sync::Mutex::new(Renderer::headless().expect("renderer")))
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 /// `f`, with a GPU validation error it raises returned as an error.
 fn validated<T>(gpu: &Gpu, f: impl FnOnce() -> Result<T>) -> Result<T> {
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);

@@ -490,11 +490,9 @@ fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
     // binding, pixel for pixel, in every hidden-line style.
     let (mut mesh, square, view) = hills_under_a_square();
     mesh.append(&square);
-    let mut one_binding = renderer();
-    let mut chunked = renderer();
-    let be = backend(&chunked);
+    let mut r = renderer();
+    let be = backend(&r);
     let positions = 12 * mesh.vertex_count() as u64;
-    chunked.gpu.limits.max_storage_buffer_binding_size = positions / 5;
     let modes = [
         WireMode::TexGs,
         WireMode::Bias,
@@ -507,8 +505,12 @@ fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
         } else {
             &HiddenLines::ALL.map(|(_, h)| h)
         };
-        let whole = one_binding.prepare(&mesh, mode).expect("one binding");
-        let cut = chunked.prepare(&mesh, mode).expect("in chunks");
+        let whole = r.prepare(&mesh, mode).expect("one binding");
+        let limit = r.gpu.limits.max_storage_buffer_binding_size;
+        r.gpu.limits.max_storage_buffer_binding_size = positions / 5;
+        let cut = r.prepare(&mesh, mode);
+        r.gpu.limits.max_storage_buffer_binding_size = limit;
+        let cut = cut.expect("in chunks");
         // The chunks' copies of the vertices on their borders cost a little more.
         assert!(
             cut.bytes() > whole.bytes(),
@@ -527,8 +529,8 @@ fn pulled_techniques_draw_a_mesh_beyond_one_binding_in_chunks() {
                     r.render(&[d], &view, &style)
                         .unwrap_or_else(|e| panic!("{be} {} {}: {e}", mode.name(), hidden.name()))
                 };
-                let a = frame(&mut one_binding, whole.as_ref());
-                let b = frame(&mut chunked, cut.as_ref());
+                let a = frame(&mut r, whole.as_ref());
+                let b = frame(&mut r, cut.as_ref());
                 let lines = read(&a).count_above(0.5);
                 let diff = ImageDiff::of(&a, &b, 0);
                 eprintln!(

@@ -43,6 +43,7 @@
 #![allow(dead_code)]
 
 use std::fmt;
+use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
 
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
@@ -52,16 +53,25 @@ use strata_render::{Camera, Coverage, Renderer, Style, View};
 /// The background of measured frames: pure blue, never a surface colour.
 pub const BACKGROUND: [f32; 4] = [0.0, 0.0, 1.0, 1.0];
 
-/// Opens the renderer on the adapter the environment selects (`WGPU_BACKEND`), and
-/// fails with the renderer's own error when there is none: these tests never skip.
-pub fn renderer() -> Renderer {
-    match Renderer::headless() {
-        Ok(r) => {
-            eprintln!("adapter: {}", r.gpu.describe());
-            r
-        }
-        Err(e) => panic!("cannot open a renderer: {e}"),
-    }
+/// The renderer of this test binary, on the adapter the environment selects
+/// (`WGPU_BACKEND`); fails with the renderer's own error when there is none: these
+/// tests never skip. One device for the whole binary, lent to one test at a time:
+/// tests that each opened a device and dropped it while others drew hung NVIDIA's
+/// Vulkan driver (580, on an H200) about one run in ten, `vkDestroyDevice`
+/// deadlocked with the other threads' submissions. A test that changes the
+/// renderer's limits puts them back before it asserts.
+pub fn renderer() -> MutexGuard<'static, Renderer> {
+    static SHARED: OnceLock<Mutex<Renderer>> = OnceLock::new();
+    SHARED
+        .get_or_init(|| match Renderer::headless() {
+            Ok(r) => {
+                eprintln!("adapter: {}", r.gpu.describe());
+                Mutex::new(r)
+            }
+            Err(e) => panic!("cannot open a renderer: {e}"),
+        })
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
 }
 
 /// A short name of the adapter's backend for reports ("Gl", "Vulkan", ...).
