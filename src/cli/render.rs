@@ -55,9 +55,10 @@ pub struct RenderArgs {
     /// between the first and the last hide under the others and keep fewer), and draw
     /// the wireframe on the result: global draws the original grid lines, tex/texgs
     /// the decimated triangles (quad, which needs cell faces, is refused). With global
-    /// or none, each cell keeps its own colour (looked up by the global coordinates);
-    /// with the others, colours are interpolated between nodes (decimated triangles are
-    /// no longer cells). Says when a surface's share is below the triangles that keep
+    /// or none, each cell keeps its own colour (looked up by the global coordinates),
+    /// and what the decimation moved beyond the original's cells (an outline corner
+    /// cut outward) is not drawn; with the others, colours are interpolated between
+    /// nodes (decimated triangles are no longer cells). Says when a surface's share is below the triangles that keep
     /// every corner of its outlines, holes and fault traces; there meshoptimizer's simplify
     /// decimates instead, its result fitted to the original grid lines (as strata's
     /// is up to 2.5 times above that). With --iso the isolines are the original's:
@@ -66,10 +67,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent)]
     lod: Option<f64>,
     /// With --lod: let the outlines, holes and fault traces grow only outward in the
-    /// decimation, and draw each decimated surface over the original's cells only (a
-    /// cell mask by the global coordinates), so those lines stay exactly the
-    /// original's at any budget; the result is fitted to the original grid lines.
-    /// Global wireframe only.
+    /// decimation, never inward, so that drawn over the original's cells only (as
+    /// every decimated surface is) those lines stay exactly the original's at any
+    /// budget; the result is fitted to the original grid lines. Global wireframe only.
     #[arg(long, requires = "lod")]
     cover: bool,
     /// Hold at most this many active cells' surfaces at a time. A scene with more is
@@ -148,14 +148,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (mesh, range, mut cells) = match args.lod {
         Some(percent) => {
             let surfaces = scene::build_surfaces(&grid, &options)?;
-            let coloured = surfaces.iter().any(|s| !s.scalars.is_empty());
             let (mesh, cells) = super::lod::decimate_scene(
                 &mut renderer,
                 &surfaces,
                 percent,
                 args.frame.zscale,
                 args.cover,
-                by_cells && (coloured || args.iso.is_some()),
+                by_cells,
             )?;
             (mesh, scene::colour_range_of(&grid, &options)?, cells)
         }

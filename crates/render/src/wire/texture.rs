@@ -418,8 +418,9 @@ pub struct CellDraw<'a> {
     /// lines are, and none are drawn outside its cells. Without them (or in a tile they
     /// leave out), isolines follow the vertex scalars.
     pub corners: Option<TiledCells<'a>>,
-    /// Discard the fragments over cells their piece does not cover: for surfaces
-    /// decimated with strata-lod's `Options::cover`, whose outlines only grew outward.
+    /// Discard the fragments over cells their piece does not cover: what decimation
+    /// moved beyond the input's cells (outline corners cut outward; with strata-lod's
+    /// `Options::cover` outlines only grow outward, and so stay exactly the input's).
     pub mask: bool,
     /// Draw the original's grid lines (the global wireframe); without, the cells'
     /// colours and the isolines only.
