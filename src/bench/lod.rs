@@ -19,8 +19,10 @@
 //!   by under a pixel is where it was), and strictly; RMS colour difference of the
 //!   shaded frames (0-255 per channel, surface coloured by PORO when the model has it:
 //!   the original's cell faces painted flat, as `strata render` draws them, and every
-//!   decimated surface coloured cell by cell by its global coordinates, as
-//!   `strata render --lod` draws it: `Renderer::prepare_cells`).
+//!   decimated surface coloured cell by cell by its global coordinates and trimmed
+//!   to the original's cells (the cell mask, `CellDraw::mask`: what decimation moved
+//!   beyond its piece's cells is not drawn), as `strata render --lod` draws it:
+//!   `Renderer::prepare_cells`; every simplifier's result alike).
 //!
 //! Outlines: per real model, the corners of its layer outlines and the fewest
 //! triangles that keep them all (`strata_lod::measure::outline_bound`), against the
@@ -34,9 +36,9 @@
 //! alone runs with both placements of new vertices: `strata_alone` (on the original
 //! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
 //! texture coordinates of the nearest original point), and as `strata_cover`: outlines
-//! that only grow outward (`Options::cover`), drawn with the renderer's cell mask
-//! (`CellDraw::mask`), so that outline corners cost no triangles, and
-//! fitted to the grid lines, as `strata render --lod PERCENT --cover` draws it.
+//! that only grow outward (`Options::cover`), so that with the cell mask outline
+//! corners cost no triangles, and fitted to the grid lines, as
+//! `strata render --lod PERCENT --cover` draws it.
 //!
 //! `meshopt_clusterlod` is meshoptimizer's cluster LOD DAG cut at one error where it
 //! fits the budget (`strata_lod::baseline`): its cuts come in steps of a group of
@@ -801,7 +803,7 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                         cover: &cover,
                         values: values.as_deref().map(TiledCells::boxes),
                         corners: None,
-                        mask: matches!(method, Method::OursCover),
+                        mask: true,
                         wire: true,
                     };
                     Some(scene.draw(&mut renderer, &mesh, Some(&cells))?)
