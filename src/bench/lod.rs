@@ -27,7 +27,8 @@
 //! Outlines: per real model, the corners of its layer outlines and the fewest
 //! triangles that keep them all (`strata_lod::measure::outline_bound`), against the
 //! goal's 10 % budget: where the budget is smaller, every simplifier must cut outline
-//! corners, and the line-pixel F1 drops for a reason no simplifier can help.
+//! corners, and the line-pixel F1 drops where they are cut inward (the cell mask trims
+//! what is cut outward), for a reason no simplifier can help.
 //!
 //! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, fitted
 //! to the grid lines (`strata_lod::fit`) where the budget is under 2.5 times its
@@ -697,8 +698,8 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
             notes.push(format!(
                 "{label}: at {GOAL_BUDGET} % the budget of {} of its {} layer surfaces is below the \
                  triangles that keep their outline corners ({} triangles for {} corners in all, \
-                 budget {}): there every simplifier cuts corners of the outline and moves \
-                 those lines by a cell",
+                 budget {}): there every simplifier cuts corners of the outline, and the \
+                 lines it cuts inward are lost (the cell mask trims what it cuts outward)",
                 outline.layers_below,
                 outline.layers,
                 outline.min_triangles,
