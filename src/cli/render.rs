@@ -58,10 +58,10 @@ pub struct RenderArgs {
     /// or none, each cell keeps its own colour (looked up by the global coordinates),
     /// and what the decimation moved beyond the original's cells (an outline corner
     /// cut outward) is not drawn; with the others, colours are interpolated between
-    /// nodes (decimated triangles are no longer cells). Says when a surface's share is below the triangles that keep
-    /// every corner of its outlines, holes and fault traces; there meshoptimizer's simplify
-    /// decimates instead, its result fitted to the original grid lines (as strata's
-    /// is up to 2.5 times above that). With --iso the isolines are the original's:
+    /// nodes (decimated triangles are no longer cells). Says when a surface's share is
+    /// below the triangles that keep every corner of its outlines, holes and fault
+    /// traces; there meshoptimizer's simplify decimates instead, its result fitted to
+    /// the original grid lines (as strata's is up to 2.5 times above that). With --iso the isolines are the original's:
     /// each fragment evaluates the original surface's field from its global
     /// coordinates, as it takes its cell's colour (--wire global or none).
     #[arg(long, value_name = "PERCENT", value_parser = super::lod::parse_percent)]
