@@ -1029,9 +1029,13 @@ impl<'a> Collapser<'a> {
         // Nothing beats keeping `a` by more than a tie when that costs a tie or less
         // (costs are never negative): on flat, affine regions most edges end here,
         // before the texture plane is formed.
-        let keep_a_cost = q.error_at_origin();
-        if keep_a && keep_a_cost <= self.tie {
-            return Some((keep_a_cost, Choice::KeepA));
+        // Choices compare by the quadric's value, the tie scaled to it: only the chosen
+        // one is divided by the weight.
+        let weight = q.weight();
+        let tie = self.tie * weight;
+        let keep_a_value = q.value_at_origin();
+        if keep_a && keep_a_value <= tie {
+            return Some((keep_a_value / weight, Choice::KeepA));
         }
         let plane = if free {
             self.jacobian(first)
@@ -1044,16 +1048,16 @@ impl<'a> Collapser<'a> {
             None => q.apply(xb),
         };
         let mut best: Option<(f64, Choice)> = None;
-        let mut consider = |cost: f64, choice: Choice| {
-            if best.is_none_or(|(c, _)| cost + self.tie < c) {
-                best = Some((cost, choice));
+        let mut consider = |value: f64, choice: Choice| {
+            if best.is_none_or(|(v, _)| value + tie < v) {
+                best = Some((value, choice));
             }
         };
         if keep_a {
-            consider(keep_a_cost, Choice::KeepA);
+            consider(keep_a_value, Choice::KeepA);
         }
         if keep_b {
-            consider(q.error_with(xb, &axb), Choice::KeepB);
+            consider(q.value_with(xb, &axb), Choice::KeepB);
         }
         if let Some((j, aj)) = plane {
             let len2 = edge[0] * edge[0] + edge[1] * edge[1];
@@ -1092,7 +1096,7 @@ impl<'a> Collapser<'a> {
                         // of the surface means nothing.
                         && d[2] * d[2] <= dot3(spatial(xb), spatial(xb))
                     {
-                        consider(q.normalize(value), Choice::point(uv, d[2]));
+                        consider(value.max(0.0), Choice::point(uv, d[2]));
                         placed = true;
                     }
                 }
@@ -1104,18 +1108,18 @@ impl<'a> Collapser<'a> {
                 && let Some((d, value)) = q.minimize_on_plane(&j, &aj)
                 && let Some(uv) = inside(d)
             {
-                consider(q.normalize(value), Choice::point(uv, 0.0));
+                consider(value.max(0.0), Choice::point(uv, 0.0));
                 placed = true;
             }
             if !placed {
                 let (t, value) = q.minimize_on_segment(xb, &axb);
                 if t > 0.0 && t < 1.0 {
                     let uv = [ua[0] + t * edge[0], ua[1] + t * edge[1]];
-                    consider(q.normalize(value), Choice::point(uv, 0.0));
+                    consider(value.max(0.0), Choice::point(uv, 0.0));
                 }
             }
         }
-        best
+        best.map(|(value, choice)| (value / weight, choice))
     }
 
     /// The placement of `choice` for edge `a b`; `None` when its texture coordinate is

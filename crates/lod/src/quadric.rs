@@ -197,17 +197,31 @@ impl Quadric {
         self.normalize(self.c)
     }
 
-    /// [`Quadric::error`] from a precomputed `A x`.
+    /// [`Quadric::value`] from a precomputed `A x`.
     #[inline]
-    pub fn error_with(&self, x: &Point, ax: &Point) -> f64 {
-        self.normalize(dot(x, ax) + 2.0 * dot(&self.b, x) + self.c)
+    pub fn value_with(&self, x: &Point, ax: &Point) -> f64 {
+        (dot(x, ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
+    }
+
+    /// [`Quadric::value`] at the point the quadric is written around.
+    #[inline]
+    pub fn value_at_origin(&self) -> f64 {
+        self.c.max(0.0)
+    }
+
+    /// What a value is divided by to make it an error: `w`, or 1 when nothing with
+    /// an area was summed in. Choices of one quadric compare by value against a tie
+    /// times this, and only the chosen one is divided (a division per candidate
+    /// placement took a sixth of the evaluation of Reek's edges).
+    #[inline]
+    pub fn weight(&self) -> f64 {
+        if self.w > 0.0 { self.w } else { 1.0 }
     }
 
     /// Turns a quadric value into an error (see [`Quadric::error`]).
     #[inline]
     pub fn normalize(&self, value: f64) -> f64 {
-        let v = value.max(0.0);
-        if self.w > 0.0 { v / self.w } else { v }
+        value.max(0.0) / self.weight()
     }
 
     /// `xᵀ A x + 2 bᵀ x + c`, never negative.
