@@ -292,6 +292,7 @@ mod tests {
             max: 4.0,
             rms: 1.0,
             outside: 1,
+            vertical: 0.0,
             missed: 0,
         };
         assert_eq!(score(&measured), 1.0);

@@ -342,6 +342,10 @@ pub struct Deviation {
     /// (outside its simplified boundary); their distance to the nearest point it does
     /// draw is included in `max` and `rms`.
     pub outside: usize,
+    /// Largest vertical distance (z scaled) of a sample the simplified surface draws
+    /// from where it draws it: how far the surface may rise through the one above it
+    /// or sink through the one below (see strata-render's `Stacking`).
+    pub vertical: f64,
     /// Samples with no point of their piece of surface near enough to measure (the
     /// piece kept no triangle, or shrank far from them); left out of `samples`.
     pub missed: usize,
@@ -461,11 +465,14 @@ impl<'m> GridLines<'m> {
             let mut sums = Sums::default();
             for (uv, p) in self.samples(edge) {
                 let inside = locate(&index, uv, edge[2], found);
-                let d = found
+                let (d, dz) = found
                     .iter()
-                    .map(|f| distance(index.position(f), p, z_scale))
-                    .fold(f64::INFINITY, f64::min);
-                sums.add(inside.map(|inside| (d, inside)));
+                    .map(|f| {
+                        let at = index.position(f);
+                        (distance(at, p, z_scale), (at[2] - p[2]).abs() * z_scale)
+                    })
+                    .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a });
+                sums.add(inside.map(|inside| (d, dz, inside)));
             }
             sums
         };
@@ -566,18 +573,23 @@ fn distance(p: [f64; 3], q: [f64; 3], z_scale: f64) -> f64 {
 struct Sums {
     squares: f64,
     max: f64,
+    vertical: f64,
     samples: usize,
     outside: usize,
     missed: usize,
 }
 
 impl Sums {
-    /// A sample's distance and whether it is inside, or `None` when missed.
-    fn add(&mut self, sample: Option<(f64, bool)>) {
+    /// A sample's distance, vertical distance and whether it is inside, or `None`
+    /// when missed.
+    fn add(&mut self, sample: Option<(f64, f64, bool)>) {
         match sample {
-            Some((d, inside)) => {
+            Some((d, dz, inside)) => {
                 self.squares += d * d;
                 self.max = self.max.max(d);
+                if inside {
+                    self.vertical = self.vertical.max(dz);
+                }
                 self.samples += 1;
                 self.outside += usize::from(!inside);
             }
@@ -589,6 +601,7 @@ impl Sums {
         Sums {
             squares: self.squares + other.squares,
             max: self.max.max(other.max),
+            vertical: self.vertical.max(other.vertical),
             samples: self.samples + other.samples,
             outside: self.outside + other.outside,
             missed: self.missed + other.missed,
@@ -605,6 +618,7 @@ impl Sums {
                 0.0
             },
             outside: self.outside,
+            vertical: self.vertical,
             missed: self.missed,
         }
     }
@@ -642,7 +656,8 @@ impl Located {
         };
         for s in &self.samples {
             let at = point_position(simplified, &s.point);
-            sums.add(Some((distance(at, s.target, z_scale), s.inside)));
+            let dz = (at[2] - s.target[2]).abs() * z_scale;
+            sums.add(Some((distance(at, s.target, z_scale), dz, s.inside)));
         }
         sums.deviation()
     }
