@@ -28,7 +28,7 @@ pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_n
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).
 pub use wgpu;
-pub use wire::{Attenuation, CellDraw, TiledCells, WireMode};
+pub use wire::{Attenuation, CellDraw, Stacking, TiledCells, WireMode, stack_pushes};
 
 /// Writes pixels as a PNG file.
 pub fn save_png(image: &image::RgbaImage, path: &std::path::Path) -> Result<()> {

@@ -11,7 +11,9 @@ mod support;
 use strata_grid::{Face, SurfaceMesh, layer_surface};
 use strata_lod::{BuildOptions, CellCover, LodFile, Options, build_file, decimate};
 use strata_render::glam::Vec3;
-use strata_render::{Camera, CellDraw, Coverage, Style, TiledCells, View, WireMode};
+use strata_render::{
+    Camera, CellDraw, Coverage, Stacking, Style, TiledCells, View, WireMode, stack_pushes,
+};
 use support::*;
 
 const SIZE: u32 = 400;
@@ -78,6 +80,7 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
                     corners: None,
                     mask: true,
                     wire,
+                    stacking: None,
                 },
             )
             .expect("covered");
@@ -294,6 +297,7 @@ fn compare_cell_colours(
         corners: None,
         mask: false,
         wire: true,
+        stacking: None,
     };
     let mut r = renderer();
     let view = top_view(original);
@@ -374,6 +378,7 @@ fn pieces_that_do_not_match_the_mesh_are_refused() {
         corners: None,
         mask: true,
         wire: true,
+        stacking: None,
     };
     let err = r
         .prepare_cells(&mesh, &draw(&cover.vertex_piece[1..]))
@@ -585,6 +590,7 @@ fn cells_and_isolines_from_the_tiles_a_view_shows_are_those_from_all_tiles() {
             corners: fields.map(|f| f[1]),
             mask: false,
             wire: true,
+            stacking: None,
         };
         shaded(&mut r, &mesh, Some(cells), &view, style)
     };
@@ -638,4 +644,109 @@ fn cells_and_isolines_from_the_tiles_a_view_shows_are_those_from_all_tiles() {
         0,
         "the tiles the view shows draw otherwise than all tiles"
     );
+}
+
+/// Two layer surfaces of one stack, drawn as one decimated scene: the upper at z = 0,
+/// the lower at z = -1, but for a patch of one that crossed the other (as decimated
+/// surfaces do across a thin layer): the lower's rises to z = 1 (seen from above) or
+/// the upper's sinks to z = -2 (seen from below). The lower's nodes sit half a cell
+/// off the upper's, so each one's grid lines show where it is seen. With the stacking
+/// (each surface's vertical error 1, pushes 0 and 2), the near surface hides the patch
+/// as in the flat stack.
+#[test]
+fn stacking_keeps_crossed_surfaces_in_the_original_order() {
+    // A surface at z, at `patch_z` over the patch, its nodes `offset` along x and y.
+    let surface = |z: f32, patch_z: f32, offset: f32| {
+        SurfaceMesh::structured(CELLS, CELLS, |i, j| {
+            let patch = (8..16).contains(&i) && (8..16).contains(&j);
+            [
+                i as f32 * 10.0 + offset,
+                j as f32 * 10.0 + offset,
+                if patch { patch_z } else { z },
+            ]
+        })
+    };
+    let stack = |(upper, lower): (SurfaceMesh, SurfaceMesh)| {
+        let mut scene = upper;
+        scene.append(&lower);
+        scene
+    };
+    let upper = surface(0.0, 0.0, 0.0);
+    let lower = surface(-1.0, -1.0, 5.0);
+    let original = stack((upper.clone(), lower.clone()));
+    let mut cover = CellCover::of(&upper).expect("upper cells");
+    let lower_cover = CellCover::of(&lower).expect("lower cells");
+    let first_lower = cover.pieces.len() as u32;
+    let mut pieces = cover.vertex_piece.clone();
+    pieces.extend(lower_cover.vertex_piece.iter().map(|p| p + first_lower));
+    cover.append(&lower_cover);
+    let push = stack_pushes(&[1.0, 1.0]);
+    assert_eq!(push, [0.0, 2.0]);
+    let piece_push: Vec<f32> = (0..cover.pieces.len() as u32)
+        .map(|p| push[usize::from(p >= first_lower)])
+        .collect();
+
+    let mut r = renderer();
+    let mut lines_from = |mesh: &SurfaceMesh, stacking, elevation: f32| {
+        let (lo, hi) = original.bounds().expect("bounds");
+        let view = View {
+            camera: Camera::fit_points(
+                original.positions.iter().map(|&p| Vec3::from(p)),
+                1.0,
+                1.0,
+                (0.0, elevation),
+                1.0,
+            ),
+            width: SIZE,
+            height: SIZE,
+            bounds: (Vec3::from(lo), Vec3::from(hi)),
+        };
+        let drawable = r
+            .prepare_cells(
+                mesh,
+                &CellDraw {
+                    pieces: &pieces,
+                    cover: &cover,
+                    values: None,
+                    corners: None,
+                    mask: false,
+                    wire: true,
+                    stacking,
+                },
+            )
+            .expect("cells");
+        let frame = render_frame(&mut r, &[drawable.as_ref()], &view, 1.0, Coverage::Analytic);
+        (frame, backend(&r))
+    };
+    let differing = |a: &Frame, b: &Frame| {
+        a.coverage
+            .iter()
+            .zip(&b.coverage)
+            .filter(|(x, y)| (**x > 0.5) != (**y > 0.5))
+            .count()
+    };
+    let stacking = Some(Stacking { push: &piece_push });
+    for (elevation, crossed) in [
+        (89.0, stack((upper.clone(), surface(-1.0, 1.0, 5.0)))),
+        (-89.0, stack((surface(0.0, -2.0, 0.0), lower.clone()))),
+    ] {
+        let (want, backend) = lines_from(&original, None, elevation);
+        let (stacked, _) = lines_from(&crossed, stacking, elevation);
+        let (unstacked, _) = lines_from(&crossed, None, elevation);
+        let (with, without) = (differing(&stacked, &want), differing(&unstacked, &want));
+        eprintln!(
+            "elevation {elevation} on {backend}: {} line pixels in the flat stack; with the \
+             patch crossed, {with} differ with stacking, {without} without",
+            want.count_above(0.5)
+        );
+        // The patch is 8 x 8 of the 24 x 24 cells: about a ninth of the lines move.
+        assert!(
+            without * 20 > want.count_above(0.5),
+            "without stacking the patch shows the other surface's lines"
+        );
+        assert!(
+            with * 1000 < want.count_above(0.5),
+            "with stacking the stack is drawn as the flat one: {with} pixels differ"
+        );
+    }
 }

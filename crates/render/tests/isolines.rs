@@ -523,6 +523,7 @@ fn a_decimated_surface_draws_the_original_isolines_from_its_cells_corners() {
                     corners: corners.map(TiledCells::boxes),
                     mask: false,
                     wire: true,
+                    stacking: None,
                 },
             )
             .expect("prepare cells");

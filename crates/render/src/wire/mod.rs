@@ -13,7 +13,7 @@ mod wire_texture;
 
 pub(crate) use lines::chunks;
 pub(crate) use texture::CellTechnique;
-pub use texture::{CellDraw, TiledCells};
+pub use texture::{CellDraw, Stacking, TiledCells, stack_pushes};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;

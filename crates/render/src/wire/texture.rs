@@ -391,7 +391,17 @@ pub struct CellTechnique {
     layout: wgpu::BindGroupLayout,
 }
 
-const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 1] = wgpu::vertex_attr_array![3 => Uint32];
+/// Per vertex of a cell draw: its piece, and how far its surface is pushed back in
+/// the depth test seen from above and from below ([`Stacking`]).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct PieceVertex {
+    piece: u32,
+    push: [f32; 2],
+}
+
+const PIECE_ATTRIBUTES: [wgpu::VertexAttribute; 2] =
+    wgpu::vertex_attr_array![3 => Uint32, 5 => Float32x2];
 
 /// Words per piece at the front of the cover texture (see texture.wgsl).
 const COVER_HEADER: usize = 9;
@@ -425,6 +435,69 @@ pub struct CellDraw<'a> {
     /// Draw the original's grid lines (the global wireframe); without, the cells'
     /// colours and the isolines only.
     pub wire: bool,
+    /// The order of the model's layer surfaces drawn together, where each was
+    /// decimated on its own.
+    pub stacking: Option<Stacking<'a>>,
+}
+
+/// Layer surfaces decimated one by one no longer keep their order where the layers are
+/// thinner than the errors: a surface pokes through the one above it, and its grid
+/// lines show through that one's cells. The original's order is restored in the depth
+/// test: each fragment is tested as if its surface lay `push` lower, seen from above
+/// (seen from below, higher by the largest push less its own), moved along its view
+/// ray so that it stays on the same pixel. Surfaces further apart than that still hide
+/// each other as the nearer one does.
+#[derive(Clone, Copy, Debug)]
+pub struct Stacking<'a> {
+    /// Per piece of [`CellDraw::cover`], the push of its surface in display units
+    /// (vertical, exaggerated as drawn): 0 at the top, growing downward ([`stack_pushes`]).
+    pub push: &'a [f32],
+}
+
+impl Stacking<'_> {
+    /// Per vertex of a drawn mesh with `pieces`, the push seen from above and from
+    /// below.
+    fn pushes(&self, pieces: &[u32]) -> Result<Vec<[f32; 2]>> {
+        if let Some(bad) = self.push.iter().find(|p| !(p.is_finite() && **p >= 0.0)) {
+            return Err(Error::Invalid(format!(
+                "a stacking push of {bad} (not finite and at least 0)"
+            )));
+        }
+        let deepest = self.push.iter().copied().fold(0.0, f32::max);
+        pieces
+            .iter()
+            .map(|&p| {
+                let push = *self.push.get(p as usize).ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "piece {p} has no push in the stacking ({} pushes)",
+                        self.push.len()
+                    ))
+                })?;
+                Ok([push, deepest - push])
+            })
+            .collect()
+    }
+}
+
+/// Per layer surface of a stack, top to bottom, its push ([`Stacking`]) from the
+/// vertical error of each (how far it may lie from the original, e.g. strata-lod's
+/// `Deviation::vertical`): each surface lies below the one above it by the errors of
+/// both, so that neither can rise through the other.
+pub fn stack_pushes(vertical_errors: &[f32]) -> Vec<f32> {
+    let mut push = 0.0;
+    let mut above = 0.0;
+    vertical_errors
+        .iter()
+        .enumerate()
+        .map(|(k, &e)| {
+            let e = if e.is_finite() { e.max(0.0) } else { 0.0 };
+            if k > 0 {
+                push += above + e;
+            }
+            above = e;
+            push
+        })
+        .collect()
 }
 
 /// Values on the cells of the pieces of a cell cover, for the tiles of each piece's box
@@ -510,7 +583,7 @@ impl CellTechnique {
                 attributes: &UV_ATTRIBUTES,
             }),
             Some(wgpu::VertexBufferLayout {
-                array_stride: 4,
+                array_stride: std::mem::size_of::<PieceVertex>() as u64,
                 step_mode: wgpu::VertexStepMode::Vertex,
                 attributes: &PIECE_ATTRIBUTES,
             }),
@@ -645,9 +718,18 @@ impl CellTechnique {
         }
         let label = cells_label(self.mask);
         let draw = IndexedDraw::of_mesh(gpu, self.pipelines.clone(), mesh, &plan.triangles, label)?;
+        let pushes = match cells.stacking {
+            Some(stacking) => stacking.pushes(pieces)?,
+            None => vec![[0.0; 2]; pieces.len()],
+        };
+        let piece_vertices: Vec<PieceVertex> = pieces
+            .iter()
+            .zip(pushes)
+            .map(|(&piece, push)| PieceVertex { piece, push })
+            .collect();
         let piece_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("cover pieces"),
-            contents: bytemuck::cast_slice(pieces),
+            contents: bytemuck::cast_slice(&piece_vertices),
             usage: wgpu::BufferUsages::VERTEX,
         });
         let bytes = draw.bytes + piece_buffer.size() + texels_bytes;
@@ -932,6 +1014,22 @@ mod tests {
     use crate::renderer::test_renderer;
     use crate::{Camera, Style, View};
 
+    #[test]
+    fn each_surface_is_pushed_below_the_one_above_by_both_errors() {
+        assert_eq!(stack_pushes(&[1.0, 2.0, 0.5]), [0.0, 3.0, 5.5]);
+        // An unknown error counts as none.
+        assert_eq!(stack_pushes(&[f32::NAN, 1.0]), [0.0, 1.0]);
+        let stacking = Stacking {
+            push: &[0.0, 3.0, 5.5],
+        };
+        let pushes = stacking.pushes(&[2, 0, 1]).expect("pushes");
+        assert_eq!(pushes, [[5.5, 0.0], [0.0, 5.5], [3.0, 2.5]]);
+        let unknown = stacking.pushes(&[3]).expect_err("piece 3 has no push");
+        assert!(unknown.to_string().contains("piece 3"), "{unknown}");
+        let negative = Stacking { push: &[-1.0] }.pushes(&[0]);
+        assert!(negative.is_err());
+    }
+
     /// Nine separate blocks of 6 x 6 cells (cells (i, j) with i % 8 < 6 and j % 8 < 6
     /// of a flat 24 x 24 grid), valued in a pattern the zero vertex scalars do not
     /// follow.
@@ -987,6 +1085,7 @@ mod tests {
             corners,
             mask: false,
             wire: true,
+            stacking: None,
         };
         let (lo, hi) = mesh.bounds().expect("bounds");
         let view = View {

@@ -188,10 +188,24 @@ fn cell_iso(piece: u32, cell: i32, uv: vec2<f32>, interpolated: f32) -> f32 {
     return s.x + t.y * (s.w - s.x) + t.x * (s.z - s.w);
 }
 
+// Least |z| of a view ray's direction that a push is divided by: along a ray that
+// grazes the layers, a vertex moves at most twenty times its push.
+const PUSH_MIN_DZ: f32 = 0.05;
+
+// `push`: how far lower (seen from above, x) or higher (seen from below, y) the
+// vertex's surface is depth tested (strata-render's `Stacking`). The vertex moves
+// along its view ray, which keeps it on the same pixel, by what takes it that far
+// vertically; the fragment keeps its true position for shading.
 @vertex
-fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32, @location(3) piece: u32) -> CoverOut {
+fn vs_uv_cover(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32, @location(3) piece: u32, @location(5) push: vec2<f32>) -> CoverOut {
     let wp = world(p);
-    return CoverOut(clip(wp), wp, uv, scalar, line_coordinate(scalar), piece);
+    let ray = normalize(wp - frame.eye.xyz);
+    let vertical = select(push.x, push.y, ray.z > 0.0);
+    let tested = select(wp, wp + ray * (vertical / max(abs(ray.z), PUSH_MIN_DZ)), vertical > 0.0);
+    // Pushed past the far plane, at it (reversed depth: 0), rather than clipped away.
+    var position = clip(tested);
+    position.z = max(position.z, 0.0);
+    return CoverOut(position, wp, uv, scalar, line_coordinate(scalar), piece);
 }
 
 // A fragment of a decimated surface in `cell` of the original's (-1: none): its
