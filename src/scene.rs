@@ -48,10 +48,21 @@ pub fn build(
 /// bottom of the last, and the sides of each run of layers; appended in this order
 /// they are that mesh. For a decimation that splits one budget among them.
 pub fn build_surfaces(grid: &CornerPointGrid, options: &SceneOptions) -> Result<Vec<SurfaceMesh>> {
+    Ok(build_stacked_surfaces(grid, options)?.0)
+}
+
+/// [`build_surfaces`], and how many of them, from the first, are the stack of layer
+/// surfaces (tops, then the bottom), top to bottom; the rest are side faces.
+pub fn build_stacked_surfaces(
+    grid: &CornerPointGrid,
+    options: &SceneOptions,
+) -> Result<(Vec<SurfaceMesh>, usize)> {
     let origin = grid.display_origin();
     let all = Columns::all(grid.dims());
     let mut surfaces = Vec::new();
+    let mut stacked = 0;
     for part in parts(grid, options, usize::MAX)? {
+        let sides = matches!(part, Part::Sides(_));
         let layers = match &part {
             Part::Tops(run) => run.clone().map(|k| Part::Tops(k..k + 1)).collect(),
             _ => vec![part],
@@ -60,13 +71,14 @@ pub fn build_surfaces(grid: &CornerPointGrid, options: &SceneOptions) -> Result<
             let mesh = build_part(grid, options, layer, origin, &all)?;
             if !mesh.is_empty() {
                 surfaces.push(mesh);
+                stacked += usize::from(!sides);
             }
         }
     }
     if surfaces.is_empty() {
         return Err(nothing_to_draw(grid, options));
     }
-    Ok(surfaces)
+    Ok((surfaces, stacked))
 }
 
 /// The error of a scene whose layers have no face to draw.

@@ -77,7 +77,9 @@ use strata_lod::{
     decimate, decimate_chosen, share_surfaces,
 };
 use strata_render::glam::Vec3;
-use strata_render::{Camera, CellDraw, Renderer, Style, TiledCells, View, WireMode};
+use strata_render::{
+    Camera, CellDraw, Renderer, Stacking, Style, TiledCells, View, WireMode, stack_pushes,
+};
 
 const WIDTH: u32 = 1000;
 const HEIGHT: u32 = 800;
@@ -799,6 +801,14 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                                 .map(|p| p.saturating_add(*first)),
                         );
                     }
+                    // The layers' order in the depth test, as `render --lod` keeps it.
+                    let surface_push =
+                        stack_pushes(&devs.iter().map(|d| d.vertical as f32).collect::<Vec<_>>());
+                    let mut push = vec![0.0; cover.pieces.len()];
+                    for (k, &first) in first_piece.iter().enumerate() {
+                        let end = first_piece.get(k + 1).map_or(push.len(), |&e| e as usize);
+                        push[first as usize..end].fill(surface_push[k]);
+                    }
                     let cells = CellDraw {
                         pieces: &pieces,
                         cover: &cover,
@@ -806,6 +816,7 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                         corners: None,
                         mask: true,
                         wire: true,
+                        stacking: Some(Stacking { push: &push }),
                     };
                     Some(scene.draw(&mut renderer, &mesh, Some(&cells))?)
                 };

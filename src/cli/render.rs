@@ -57,7 +57,9 @@ pub struct RenderArgs {
     /// the decimated triangles (quad, which needs cell faces, is refused). With global
     /// or none, each cell keeps its own colour (looked up by the global coordinates),
     /// and what the decimation moved beyond the original's cells (an outline corner
-    /// cut outward) is not drawn; with the others, colours are interpolated between
+    /// cut outward) is not drawn, and the layers keep their order where they are
+    /// thinner than the decimation's error (a surface that rose through the one above
+    /// it stays hidden under it); with the others, colours are interpolated between
     /// nodes (decimated triangles are no longer cells). Says when a surface's share is
     /// below the triangles that keep every corner of its outlines, holes and fault
     /// traces; there meshoptimizer's simplify decimates instead, its result fitted to
@@ -147,10 +149,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut renderer = Renderer::headless()?;
     let (mesh, range, mut cells) = match args.lod {
         Some(percent) => {
-            let surfaces = scene::build_surfaces(&grid, &options)?;
+            let (surfaces, stacked) = scene::build_stacked_surfaces(&grid, &options)?;
             let (mesh, cells) = super::lod::decimate_scene(
                 &mut renderer,
                 &surfaces,
+                stacked,
                 percent,
                 args.frame.zscale,
                 args.cover,
