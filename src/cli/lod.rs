@@ -690,6 +690,9 @@ pub fn decimate_scene(
     let mut cells = CellCover::default();
     let mut pieces = Vec::with_capacity(out.vertex_count());
     let mut values = coloured.then(Vec::new);
+    if !(against_cells || cover) {
+        return Ok((out, None));
+    }
     // How far each stacked surface strays vertically from the original, which is how
     // far it may rise through its neighbour: their pushes apart in the depth test.
     let vertical: Vec<f32> = surfaces
