@@ -804,10 +804,10 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                     // The layers' order in the depth test, as `render --lod` keeps it.
                     let surface_push =
                         stack_pushes(&devs.iter().map(|d| d.vertical as f32).collect::<Vec<_>>());
-                    let mut push = vec![0.0; cover.pieces.len()];
+                    let mut push = vec![None; cover.pieces.len()];
                     for (k, &first) in first_piece.iter().enumerate() {
                         let end = first_piece.get(k + 1).map_or(push.len(), |&e| e as usize);
-                        push[first as usize..end].fill(surface_push[k]);
+                        push[first as usize..end].fill(Some(surface_push[k]));
                     }
                     let cells = CellDraw {
                         pieces: &pieces,

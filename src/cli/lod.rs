@@ -549,8 +549,9 @@ fn drawn_values<'f>(file: &'f LodFile, drawn: &'f [bool]) -> impl Iterator<Item 
 pub struct SceneCells {
     pub pieces: Vec<u32>,
     pub cover: CellCover,
-    /// Per piece of `cover`, the renderer's push of its surface ([`Stacking`]).
-    pub push: Vec<f32>,
+    /// Per piece of `cover`, the renderer's push of its surface ([`Stacking`]); none
+    /// for side faces.
+    pub push: Vec<Option<f32>>,
     pub values: Option<Vec<f32>>,
     /// The input's isoline field at its cells' corners, when isolines are drawn.
     pub corners: Option<Vec<f32>>,
@@ -731,10 +732,7 @@ pub fn decimate_scene(
         if let Some(values) = &mut values {
             values.extend(own.values(mesh).context("the scene's cell values")?);
         }
-        push.resize(
-            push.len() + own.pieces.len(),
-            surface_push.get(i).copied().unwrap_or(0.0),
-        );
+        push.resize(push.len() + own.pieces.len(), surface_push.get(i).copied());
         cells.append(&own);
     }
     Ok((

@@ -682,8 +682,8 @@ fn stacking_keeps_crossed_surfaces_in_the_original_order() {
     cover.append(&lower_cover);
     let push = stack_pushes(&[1.0, 1.0]);
     assert_eq!(push, [0.0, 2.0]);
-    let piece_push: Vec<f32> = (0..cover.pieces.len() as u32)
-        .map(|p| push[usize::from(p >= first_lower)])
+    let piece_push: Vec<Option<f32>> = (0..cover.pieces.len() as u32)
+        .map(|p| Some(push[usize::from(p >= first_lower)]))
         .collect();
 
     let mut r = renderer();

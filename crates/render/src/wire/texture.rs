@@ -450,20 +450,23 @@ pub struct CellDraw<'a> {
 #[derive(Clone, Copy, Debug)]
 pub struct Stacking<'a> {
     /// Per piece of [`CellDraw::cover`], the push of its surface in display units
-    /// (vertical, exaggerated as drawn): 0 at the top, growing downward ([`stack_pushes`]).
-    pub push: &'a [f32],
+    /// (vertical, exaggerated as drawn): 0 at the top, growing downward
+    /// ([`stack_pushes`]); `None` for a piece outside the stack (side faces), never
+    /// pushed.
+    pub push: &'a [Option<f32>],
 }
 
 impl Stacking<'_> {
     /// Per vertex of a drawn mesh with `pieces`, the push seen from above and from
     /// below.
     fn pushes(&self, pieces: &[u32]) -> Result<Vec<[f32; 2]>> {
-        if let Some(bad) = self.push.iter().find(|p| !(p.is_finite() && **p >= 0.0)) {
+        let stacked = || self.push.iter().flatten().copied();
+        if let Some(bad) = stacked().find(|p| !(p.is_finite() && *p >= 0.0)) {
             return Err(Error::Invalid(format!(
                 "a stacking push of {bad} (not finite and at least 0)"
             )));
         }
-        let deepest = self.push.iter().copied().fold(0.0, f32::max);
+        let deepest = stacked().fold(0.0, f32::max);
         pieces
             .iter()
             .map(|&p| {
@@ -473,7 +476,7 @@ impl Stacking<'_> {
                         self.push.len()
                     ))
                 })?;
-                Ok([push, deepest - push])
+                Ok(push.map_or([0.0; 2], |push| [push, deepest - push]))
             })
             .collect()
     }
@@ -1020,13 +1023,16 @@ mod tests {
         // An unknown error counts as none.
         assert_eq!(stack_pushes(&[f32::NAN, 1.0]), [0.0, 1.0]);
         let stacking = Stacking {
-            push: &[0.0, 3.0, 5.5],
+            push: &[Some(0.0), Some(3.0), Some(5.5), None],
         };
-        let pushes = stacking.pushes(&[2, 0, 1]).expect("pushes");
-        assert_eq!(pushes, [[5.5, 0.0], [0.0, 5.5], [3.0, 2.5]]);
-        let unknown = stacking.pushes(&[3]).expect_err("piece 3 has no push");
-        assert!(unknown.to_string().contains("piece 3"), "{unknown}");
-        let negative = Stacking { push: &[-1.0] }.pushes(&[0]);
+        let pushes = stacking.pushes(&[2, 0, 1, 3]).expect("pushes");
+        assert_eq!(pushes, [[5.5, 0.0], [0.0, 5.5], [3.0, 2.5], [0.0, 0.0]]);
+        let unknown = stacking.pushes(&[4]).expect_err("piece 4 has no push");
+        assert!(unknown.to_string().contains("piece 4"), "{unknown}");
+        let negative = Stacking {
+            push: &[Some(-1.0)],
+        }
+        .pushes(&[0]);
         assert!(negative.is_err());
     }
 
