@@ -21,8 +21,10 @@
 //!   the original's cell faces painted flat, as `strata render` draws them, and every
 //!   decimated surface coloured cell by cell by its global coordinates and trimmed
 //!   to the original's cells (the cell mask, `CellDraw::mask`: what decimation moved
-//!   beyond its piece's cells is not drawn), as `strata render --lod` draws it:
-//!   `Renderer::prepare_cells`; every simplifier's result alike).
+//!   beyond its piece's cells is not drawn), its layer surfaces kept in their order
+//!   in the depth test by their vertical deviations (`CellDraw::stacking`: a surface
+//!   that rose through the one above it stays under it), as `strata render --lod`
+//!   draws it: `Renderer::prepare_cells`; every simplifier's result alike).
 //!
 //! Outlines: per real model, the corners of its layer outlines and the fewest
 //! triangles that keep them all (`strata_lod::measure::outline_bound`), against the
