@@ -227,16 +227,14 @@ impl Quadric {
     /// `xᵀ A x + 2 bᵀ x + c`, never negative.
     #[inline]
     pub fn value(&self, x: &Point) -> f64 {
-        let ax = self.apply(x);
-        (dot(x, &ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
+        self.value_with(x, &self.apply(x))
     }
 
     /// The mean squared distance at `x`: `value / w` (the value itself when nothing
     /// with an area was summed in).
     #[inline]
     pub fn error(&self, x: &Point) -> f64 {
-        let v = self.value(x);
-        if self.w > 0.0 { v / self.w } else { v }
+        self.normalize(self.value(x))
     }
 
     /// Minimum over the plane `J d` through the point the quadric is written around
