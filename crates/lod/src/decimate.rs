@@ -15,12 +15,15 @@
 //!   it passes through the original where it curves instead of lying on one side.
 //! * Topology: boundary vertices only slide along their boundary (half-edge collapses
 //!   onto a neighbour on it), an interior edge between two boundary vertices never
-//!   collapses (that would pinch a hole shut or stitch the two sides of a fault), the
-//!   link condition keeps the surface manifold, and every triangle a collapse changes
-//!   must keep the orientation of its normal and of its texture-space image, so
-//!   nothing folds over and the texture parameterisation stays one-to-one. With
-//!   [`Options::cover`] a boundary slides only where the surface gains area, over
-//!   cells it does not cover, for a renderer that masks fragments by cell.
+//!   collapses (that would pinch a hole shut or stitch the two sides of a fault), two
+//!   boundaries that run together (a seam: one vertex on either side at each place,
+//!   as where a layer pinches out between two side walls) slide together or not at
+//!   all, so that no crack opens between them, the link condition keeps the surface
+//!   manifold, and every triangle a collapse changes must keep the orientation of its
+//!   normal and of its texture-space image, so nothing folds over and the texture
+//!   parameterisation stays one-to-one. With [`Options::cover`] a boundary slides
+//!   only where the surface gains area, over cells it does not cover, for a renderer
+//!   that masks fragments by cell.
 //! * Order and speed: collapses run in passes, as in meshoptimizer. A pass evaluates
 //!   every edge and collapses them, up to what the target still needs and under an
 //!   error bound of 1.5 times the cost of the last collapse the target would need
@@ -340,6 +343,65 @@ const BOUNDARY: u8 = 2;
 const LOCKED: u8 = 4;
 /// The vertex was placed by a collapse (its data is no longer the input's).
 const MOVED: u8 = 8;
+/// A boundary vertex at the same position as one other, its twin, on another
+/// boundary ([`seam_twins`]).
+const SEAM: u8 = 16;
+
+/// Per vertex, the other boundary vertex at its position (bit for bit), or [`NONE`];
+/// where more than two are at one place, they are all locked. Two boundaries that
+/// run together along a seam are two sides of one line: a layer pinched out between
+/// two side walls (the wall's faces above and below it end on the same nodes, but
+/// with the texture coordinates of their own layers), or walls of constant i and j
+/// meeting at a corner pillar. A vertex of one side may go only where its twin goes,
+/// onto the twin of where it goes. Empty when the surface has no seam.
+fn seam_twins(positions: &[[f32; 3]], flags: &mut [u8]) -> Vec<u32> {
+    let on_boundary = flags
+        .iter()
+        .enumerate()
+        .filter(|&(_, f)| f & ALIVE != 0 && f & (BOUNDARY | LOCKED) != 0)
+        .map(|(v, _)| v as u32);
+    let (pairs, crowded) = coincident(positions, on_boundary);
+    let mut twin = Vec::new();
+    for [a, b] in pairs {
+        if (flags[a as usize] | flags[b as usize]) & LOCKED != 0 {
+            flags[a as usize] |= LOCKED;
+            flags[b as usize] |= LOCKED;
+            continue;
+        }
+        if twin.is_empty() {
+            twin = vec![NONE; flags.len()];
+        }
+        twin[a as usize] = b;
+        twin[b as usize] = a;
+        flags[a as usize] |= SEAM;
+        flags[b as usize] |= SEAM;
+    }
+    for v in crowded {
+        flags[v as usize] |= LOCKED;
+    }
+    twin
+}
+
+/// Of `vertices`, those at the same position (bit for bit) as exactly one other, in
+/// pairs, and those at a position shared by more.
+pub(crate) fn coincident(
+    positions: &[[f32; 3]],
+    vertices: impl Iterator<Item = u32>,
+) -> (Vec<[u32; 2]>, Vec<u32>) {
+    let mut at: Vec<([u32; 3], u32)> = vertices
+        .map(|v| (positions[v as usize].map(f32::to_bits), v))
+        .collect();
+    at.sort_unstable();
+    let (mut pairs, mut crowded) = (Vec::new(), Vec::new());
+    for group in at.chunk_by(|x, y| x.0 == y.0) {
+        match group {
+            [_] => {}
+            &[(_, a), (_, b)] => pairs.push([a, b]),
+            _ => crowded.extend(group.iter().map(|&(_, v)| v)),
+        }
+    }
+    (pairs, crowded)
+}
 
 /// How far ahead (in triangles) `Collapser::gather` asks for the vertex data it will
 /// evaluate. Its stream crosses a 4 KiB page every 17 quadrics, and hardware
@@ -644,6 +706,8 @@ struct Collapser<'a> {
     scalar: Vec<f32>,
     home: Vec<u32>,
     flags: Vec<u8>,
+    /// [`seam_twins`].
+    twin: Vec<u32>,
     /// Set on both ends of a collapse: left alone for the rest of the pass.
     busy: Vec<bool>,
     /// Per vertex, in a round of local minima, the cheapest open candidate at it.
@@ -807,6 +871,7 @@ impl<'a> Collapser<'a> {
                 *f |= LOCKED;
             }
         }
+        let twin = seam_twins(&mesh.positions, &mut flags);
 
         // Quadrics: each triangle's, weighted by its area, on its corners; a boundary
         // plane on both ends of each boundary edge.
@@ -883,6 +948,7 @@ impl<'a> Collapser<'a> {
             },
             home: home.to_vec(),
             flags,
+            twin,
             busy: vec![false; n],
             cheapest: vec![u32::MAX; n],
             original: (0..n as u32).collect(),
@@ -1010,8 +1076,8 @@ impl<'a> Collapser<'a> {
             keep_a &= !bb;
         } else {
             free = false;
-            keep_a &= self.grows_outward(b, a);
-            keep_b &= self.grows_outward(a, b);
+            keep_a &= self.grows_outward(b, a) && self.seam_allows(b, a);
+            keep_b &= self.grows_outward(a, b) && self.seam_allows(a, b);
         }
         // Around `a`'s point, where `a` is the origin: there the quadric's value is
         // its constant and its gradient its linear part, without a product by `A`.
@@ -1357,6 +1423,74 @@ impl<'a> Collapser<'a> {
             )
     }
 
+    /// As far as seams go, may boundary vertex `gone` go onto its neighbour `keep`
+    /// along the boundary? Always off a seam; on one, only with its twin
+    /// ([`Collapser::twin_edge`]).
+    fn seam_allows(&self, gone: u32, keep: u32) -> bool {
+        !self.flag(gone, SEAM) || self.twin_edge(gone, keep).is_some()
+    }
+
+    /// For seam vertex `gone` going onto `keep` along the boundary, the collapse on
+    /// the other side of the seam that must go with it: `gone`'s twin onto `keep`'s,
+    /// as (twin of `gone`, twin of `keep`). `None` where the seam ends at `keep` (it has
+    /// no twin, or the twins are not neighbours along their boundary) or the twin is
+    /// locked: `gone` then stays.
+    fn twin_edge(&self, gone: u32, keep: u32) -> Option<(u32, u32)> {
+        if !self.flag(keep, SEAM) {
+            return None;
+        }
+        let (gone_twin, keep_twin) = (self.twin[gone as usize], self.twin[keep as usize]);
+        let usable = |v: u32| v != NONE && v != gone && v != keep && self.flag(v, ALIVE);
+        (usable(gone_twin)
+            && usable(keep_twin)
+            && !self.flag(gone_twin, LOCKED)
+            && self.edge_triangles(gone_twin, keep_twin).0 == 1)
+            .then_some((gone_twin, keep_twin))
+    }
+
+    /// The collapse of `gone`'s twin onto `keep`'s that goes with that of seam vertex
+    /// `gone` onto `keep` ([`Collapser::twin_edge`]), checked as any collapse onto an
+    /// endpoint is, within `bound`: (keep, gone, their summed quadric, where they go,
+    /// its cost). `None` when it may not be made; then neither is. The two sides must
+    /// share no triangle, so that making one leaves the other's checks as they were.
+    fn twin_collapse(
+        &mut self,
+        gone: u32,
+        keep: u32,
+        bound: f64,
+    ) -> Option<(u32, u32, Local, Spot, f64)> {
+        let (gone_twin, keep_twin) = self.twin_edge(gone, keep)?;
+        if self.busy[gone_twin as usize] || self.busy[keep_twin as usize] {
+            return None;
+        }
+        let touches = |v: u32| {
+            self.star(v).iter().any(|&t| {
+                self.uses(t, v)
+                    && self.tris[t as usize]
+                        .iter()
+                        .any(|&w| w == gone_twin || w == keep_twin)
+            })
+        };
+        if touches(gone) || touches(keep) {
+            return None;
+        }
+        let q = self.pair(keep_twin, gone_twin);
+        let p = self.place(keep_twin, gone_twin, Choice::KeepA)?;
+        let exact = q.error(&self.from(keep_twin, &p.x));
+        (exact <= bound
+            && self.grows_outward(gone_twin, keep_twin)
+            && self.can_collapse(keep_twin, gone_twin, &p, false))
+        .then(|| {
+            (
+                keep_twin,
+                gone_twin,
+                q.around(&self.from(keep_twin, &p.x)),
+                p,
+                exact,
+            )
+        })
+    }
+
     /// Does triangle `t` keep the direction of its normal and the sign of its texture
     /// area, with no degeneracy, when its corner `v` moves to `p`?
     fn keeps_orientation(&self, t: u32, v: u32, p: &Spot) -> bool {
@@ -1466,6 +1600,13 @@ impl<'a> Collapser<'a> {
         squeeze(&mut self.home, &survivors);
         squeeze(&mut self.flags, &survivors);
         squeeze(&mut self.original, &survivors);
+        if !self.twin.is_empty() {
+            squeeze(&mut self.twin, &survivors);
+            // Twins go together: a live vertex's twin is live.
+            for t in self.twin.iter_mut().filter(|t| **t != NONE) {
+                *t = new_index[*t as usize];
+            }
+        }
         self.scratch.open = survivors;
         for (v, &o) in self.original.iter().enumerate() {
             self.current[o as usize] = v as u32;
@@ -1779,11 +1920,24 @@ impl<'a> Collapser<'a> {
         let exact = q.error(&at);
         // Earlier collapses of the pass may have moved `gone`'s neighbours on the
         // boundary since the edge was evaluated.
-        if exact <= bound
+        if !(exact <= bound
             && self.grows_outward(gone, keep)
-            && self.can_collapse(keep, gone, &p, false)
+            && self.can_collapse(keep, gone, &p, false))
         {
-            self.collapse(keep, gone, q.around(&at), &p, false);
+            return;
+        }
+        let twin = if self.flag(gone, SEAM) {
+            let Some(twin) = self.twin_collapse(gone, keep, bound) else {
+                return;
+            };
+            Some(twin)
+        } else {
+            None
+        };
+        self.collapse(keep, gone, q.around(&at), &p, false);
+        self.max_cost = self.max_cost.max(exact);
+        if let Some((keep, gone, q, p, exact)) = twin {
+            self.collapse(keep, gone, q, &p, false);
             self.max_cost = self.max_cost.max(exact);
         }
     }

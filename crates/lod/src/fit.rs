@@ -8,26 +8,29 @@
 //! squared distances to the `x` is then a linear least-squares problem in the
 //! positions, which Gauss-Seidel sweeps solve (each vertex in turn to its optimum, the
 //! others held). Unlike [`crate::Options::lift`] (one sweep, interior vertices along
-//! the normal, within their collapse error) every vertex moves, outline vertices too,
-//! in any direction: below the [`crate::measure::outline_bound`] outlines are cut
-//! anyway, and a vertex on a cut outline stands for a stretch of it. Measured on
-//! emerald's layers at 10 % (both of the bench's views, line-pixel F1):
-//! meshopt_simplify's 0.874 / 0.836 -> 0.904 / 0.907, ours 0.856 / 0.851 -> 0.879 /
-//! 0.902 (interior vertices alone: 0.874 / 0.836 and 0.856 / 0.853); on simpleb8's,
-//! 0.295 / 0.460 -> 0.430 / 0.553 and 0.181 / 0.564 -> 0.274 / 0.586. Above the
-//! bound it helps ours too (Reek at 10 %: 0.978 / 0.990 -> 0.987 / 0.997), at a cost
-//! in time that [`crate::decimate_chosen`] weighs. With [`crate::Options::cover`] the
-//! renderer's cell mask draws outlines where their cells' texture coordinates fall,
-//! which the fit does not move, and there it helps at every budget (Reek at 10 %,
-//! 0.981 / 0.991 -> 0.988 / 0.996). A fit costs about a fifth of what locating its
-//! samples by a search of the whole surface and measuring them does (Reek's layers at
-//! 10 %: 0.003 s against 0.014 s). Near its outline bound, ours is fitted to its
-//! input vertices, which it locates as it decimates ([`crate::decimate_chosen`]).
+//! the normal, within their collapse error) every vertex moves, outline vertices too
+//! (the two sides of a seam as one), in any direction: below the
+//! [`crate::measure::outline_bound`] outlines are cut anyway, and a vertex on a cut
+//! outline stands for a stretch of it. Measured on emerald's layers at 10 % (both of
+//! the bench's views, line-pixel F1): meshopt_simplify's 0.874 / 0.836 -> 0.904 /
+//! 0.907, ours 0.856 / 0.851 -> 0.879 / 0.902 (interior vertices alone: 0.874 / 0.836
+//! and 0.856 / 0.853); on simpleb8's, 0.295 / 0.460 -> 0.430 / 0.553 and 0.181 / 0.564
+//! -> 0.274 / 0.586. Above the bound it helps ours too (Reek at 10 %: 0.978 / 0.990 ->
+//! 0.987 / 0.997), at a cost in time that [`crate::decimate_chosen`] weighs. With
+//! [`crate::Options::cover`] the renderer's cell mask draws outlines where their cells'
+//! texture coordinates fall, which the fit does not move, and there it helps at every
+//! budget (Reek at 10 %, 0.981 / 0.991 -> 0.988 / 0.996). A fit costs about a fifth of
+//! what locating its samples by a search of the whole surface and measuring them does
+//! (Reek's layers at 10 %: 0.003 s against 0.014 s). Near its outline bound, ours is
+//! fitted to its input vertices, which it locates as it decimates
+//! ([`crate::decimate_chosen`]).
+
+use strata_grid::SurfaceMesh;
 
 use crate::Decimated;
-use crate::decimate::{NEW, cross3, dot3, sub3p};
+use crate::decimate::{NEW, coincident, cross3, dot3, sub3p};
 use crate::measure::Located;
-use crate::reference::VertexTriangles;
+use crate::reference::{NONE, VertexTriangles, triangle_adjacency};
 
 /// Most Gauss-Seidel sweeps; on emerald's layers the line-pixel F1 stopped changing
 /// after 4.
@@ -93,30 +96,43 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
         let d = display(std::array::from_fn(|a| f64::from(hi[a] - lo[a])));
         d.iter().map(|c| c * c).sum::<f64>().sqrt()
     });
+    let partner = seam_partners(mesh, &star);
     for _ in 0..MAX_SWEEPS {
         let mut largest_move: f64 = 0.0;
         for v in 0..n {
-            let (mut num, mut den) = (start[v].map(|c| HOLD * c), HOLD);
-            for &t in star.of(v as u32) {
-                let tri = mesh.triangles[t as usize];
-                let Some(k) = tri.iter().position(|&w| w as usize == v) else {
-                    continue;
-                };
-                // The vertex's row: what it must make up for, the samples less the
-                // other corners' share.
-                let (weights, sums) = &normal_equations[t as usize];
-                for a in 0..3 {
-                    num[a] += sums[k][a];
-                }
-                for j in (0..3).filter(|&j| j != k) {
-                    let p = x[tri[j] as usize];
-                    for a in 0..3 {
-                        num[a] -= weights[k][j] * p[a];
-                    }
-                }
-                den += weights[k][k];
+            let twin = partner[v];
+            if twin == HELD || (twin != NONE && (twin as usize) < v) {
+                continue;
             }
-            if den == HOLD {
+            let pair = [v, twin as usize];
+            let group = if twin == NONE { &pair[..1] } else { &pair[..] };
+            let (mut num, mut den) = ([0.0; 3], 0.0);
+            for &u in group {
+                for a in 0..3 {
+                    num[a] += HOLD * start[u][a];
+                }
+                den += HOLD;
+                for &t in star.of(u as u32) {
+                    let tri = mesh.triangles[t as usize];
+                    let Some(k) = tri.iter().position(|&w| w as usize == u) else {
+                        continue;
+                    };
+                    // The vertex's row: what it must make up for, the samples less
+                    // the other corners' share.
+                    let (weights, sums) = &normal_equations[t as usize];
+                    for a in 0..3 {
+                        num[a] += sums[k][a];
+                    }
+                    for j in (0..3).filter(|&j| j != k) {
+                        let p = x[tri[j] as usize];
+                        for a in 0..3 {
+                            num[a] -= weights[k][j] * p[a];
+                        }
+                    }
+                    den += weights[k][k];
+                }
+            }
+            if den == HOLD * group.len() as f64 {
                 // No sample on any of its triangles.
                 continue;
             }
@@ -127,13 +143,14 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
                 to = std::array::from_fn(|a| start[v][a] + off[a] * reach / len);
             }
             let before = x[v];
-            x[v] = to;
-            let folds = star
-                .of(v as u32)
-                .iter()
-                .any(|&t| dot3(normal(&x, t as usize), facing[t as usize]) <= 0.0);
+            group.iter().for_each(|&u| x[u] = to);
+            let folds = group.iter().any(|&u| {
+                star.of(u as u32)
+                    .iter()
+                    .any(|&t| dot3(normal(&x, t as usize), facing[t as usize]) <= 0.0)
+            });
             if folds {
-                x[v] = before;
+                group.iter().for_each(|&u| x[u] = before);
             } else {
                 let step = sub3p(to, before);
                 largest_move = largest_move.max(dot3(step, step).sqrt());
@@ -153,6 +170,41 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
         decimated.source[v] = NEW;
     }
     moved
+}
+
+/// [`seam_partners`]: a vertex that does not move.
+const HELD: u32 = NONE - 1;
+
+/// Per vertex of `mesh` (`star`: its vertex-to-triangle lists), the other boundary
+/// vertex at its position, with which it moves as one, so that the two sides of a
+/// seam stay together (see [`crate::decimate`]); [`NONE`] for none, [`HELD`] where
+/// more than two boundary vertices meet.
+fn seam_partners(mesh: &SurfaceMesh, star: &VertexTriangles) -> Vec<u32> {
+    let n = mesh.vertex_count();
+    let mut on_boundary = vec![false; n];
+    for (tri, across) in mesh
+        .triangles
+        .iter()
+        .zip(triangle_adjacency(&mesh.triangles, star))
+    {
+        for k in (0..3).filter(|&k| across[k] == NONE) {
+            on_boundary[tri[(k + 1) % 3] as usize] = true;
+            on_boundary[tri[(k + 2) % 3] as usize] = true;
+        }
+    }
+    let (pairs, crowded) = coincident(
+        &mesh.positions,
+        (0..n as u32).filter(|&v| on_boundary[v as usize]),
+    );
+    let mut partner = vec![NONE; n];
+    for [a, b] in pairs {
+        partner[a as usize] = b;
+        partner[b as usize] = a;
+    }
+    for v in crowded {
+        partner[v as usize] = HELD;
+    }
+    partner
 }
 
 /// Normal (not normalised) of triangle `t` of points `x`.

@@ -1,0 +1,157 @@
+//! Side walls stay closed: where two boundaries of a surface coincide (a layer pinched
+//! out between two walls, a wall of constant i meeting one of constant j at a corner
+//! pillar), their vertices coincide in position but not in texture coordinates, and
+//! decimation moves both boundaries together or neither.
+
+mod common;
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use common::{edge_uses, faulted_grid};
+use strata_grid::{CornerPointGrid, SurfaceMesh, side_surfaces};
+use strata_lod::{Options, decimate, decimate_chosen};
+
+/// A position, bit for bit.
+type Key = [u32; 3];
+
+fn key(mesh: &SurfaceMesh, v: u32) -> Key {
+    mesh.positions[v as usize].map(f32::to_bits)
+}
+
+/// The boundary edges of `mesh` (in one triangle), as pairs of vertices.
+fn boundary_edges(mesh: &SurfaceMesh) -> Vec<(u32, u32)> {
+    edge_uses(mesh)
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|(e, _)| e)
+        .collect()
+}
+
+/// The seams of `mesh`: the boundary edges that run twice between the same two
+/// positions (bit for bit), once on either side, as segments.
+fn seams(mesh: &SurfaceMesh) -> Vec<[[f64; 3]; 2]> {
+    let mut sides: HashMap<(Key, Key), usize> = HashMap::new();
+    for (a, b) in boundary_edges(mesh) {
+        let (ka, kb) = (key(mesh, a), key(mesh, b));
+        if ka != kb {
+            *sides.entry((ka.min(kb), ka.max(kb))).or_default() += 1;
+        }
+    }
+    sides
+        .into_iter()
+        .filter(|&(_, n)| n == 2)
+        .map(|((a, b), _)| [a, b].map(|k| k.map(|c| f64::from(f32::from_bits(c)))))
+        .collect()
+}
+
+fn distance_to_segment(p: [f64; 3], [a, b]: [[f64; 3]; 2]) -> f64 {
+    let ab: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+    let ap: [f64; 3] = std::array::from_fn(|k| p[k] - a[k]);
+    let len2: f64 = ab.iter().map(|c| c * c).sum();
+    let t = if len2 > 0.0 {
+        (ab.iter().zip(&ap).map(|(x, y)| x * y).sum::<f64>() / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..3)
+        .map(|k| (ap[k] - t * ab[k]).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// The boundary edges of `mesh` that lie on `seams` (both ends and the middle within
+/// `tolerance` of a seam; a face thin to nothing at one end has an edge of no
+/// length there, which is left out), and how many of them have no boundary edge between the
+/// same two places (within `tolerance`) on the other side: the cracks. A seam vertex
+/// that moved off its seam alone leaves the edges of its twin, still on the seam,
+/// open.
+fn open_seam_edges(mesh: &SurfaceMesh, seams: &[[[f64; 3]; 2]], tolerance: f64) -> (usize, usize) {
+    let point = |v: u32| mesh.positions[v as usize].map(f64::from);
+    let on_seam = |p: [f64; 3]| {
+        seams
+            .iter()
+            .any(|&s| distance_to_segment(p, s) <= tolerance)
+    };
+    let near = |p: [f64; 3], q: [f64; 3]| (0..3).all(|k| (p[k] - q[k]).abs() <= tolerance);
+    let edges: Vec<[[f64; 3]; 2]> = boundary_edges(mesh)
+        .into_iter()
+        .map(|(a, b)| [point(a), point(b)])
+        .filter(|&[a, b]| {
+            let middle = std::array::from_fn(|k| 0.5 * (a[k] + b[k]));
+            !near(a, b) && on_seam(a) && on_seam(b) && on_seam(middle)
+        })
+        .collect();
+    let open = edges
+        .iter()
+        .enumerate()
+        .filter(|&(i, &[a, b])| {
+            !edges.iter().enumerate().any(|(j, &[c, d])| {
+                j != i && ((near(a, c) && near(b, d)) || (near(a, d) && near(b, c)))
+            })
+        })
+        .count();
+    (edges.len(), open)
+}
+
+fn sample() -> CornerPointGrid {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/sample.grdecl");
+    strata_grid::open(&path).expect("the sample model")
+}
+
+fn sides(grid: &CornerPointGrid) -> SurfaceMesh {
+    let nz = grid.dims().nz;
+    side_surfaces(grid, 0..nz, Some("PORO"), grid.display_origin()).expect("side surfaces")
+}
+
+/// `mesh` decimated to `percent` of its triangles as `strata render --lod` does.
+fn options(mesh: &SurfaceMesh, percent: f64) -> Options {
+    Options {
+        z_scale: 5.0,
+        ..Options::fraction(mesh, percent / 100.0)
+    }
+}
+
+/// The seams of `walls`, checked closed, then those its decimation to `percent`
+/// leaves open, by [`decimate`] and by [`decimate_chosen`].
+fn check(name: &str, walls: &SurfaceMesh, percent: f64) {
+    let seams = seams(walls);
+    let extent = walls
+        .positions
+        .iter()
+        .flat_map(|p| p.map(|c| f64::from(c).abs()))
+        .fold(0.0, f64::max);
+    let tolerance = 1e-6 * extent;
+    let (edges, open) = open_seam_edges(walls, &seams, tolerance);
+    assert!(
+        edges > 50 && open == 0,
+        "{name}: {edges} seam edges, {open} open before decimating"
+    );
+    let options = options(walls, percent);
+    let ours = decimate(walls, &options).expect("decimate");
+    let chosen = decimate_chosen(walls, &options).expect("decimate_chosen");
+    for (how, out) in [("decimate", &ours), ("decimate_chosen", &chosen.decimated)] {
+        let kept = out.mesh.triangle_count();
+        let (left, open) = open_seam_edges(&out.mesh, &seams, tolerance);
+        eprintln!(
+            "{name} {how}: {} -> {kept} triangles, seam edges {edges} -> {left}, {open} open",
+            walls.triangle_count()
+        );
+        assert!(left > 0, "{name} {how}: no seam edge left to check");
+        assert_eq!(open, 0, "{name} {how}: {open} of {left} seam edges open");
+        assert!(
+            (kept as f64) < 0.5 * walls.triangle_count() as f64,
+            "{name} {how}: {kept} triangles"
+        );
+    }
+}
+
+#[test]
+fn the_samples_side_walls_stay_closed() {
+    check("sample", &sides(&sample()), 10.0);
+}
+
+#[test]
+fn a_faulted_models_side_walls_stay_closed() {
+    check("faulted", &sides(&faulted_grid(40, 30)), 10.0);
+}
