@@ -8,8 +8,8 @@ mod common;
 use std::collections::HashMap;
 use std::path::Path;
 
-use common::{edge_uses, faulted_grid};
-use strata_grid::{CornerPointGrid, SurfaceMesh, side_surfaces};
+use common::{edge_uses, faulted_grid, shared_data};
+use strata_grid::{CornerPointGrid, ReadOptions, SurfaceMesh, side_surfaces};
 use strata_lod::{Options, decimate, decimate_chosen};
 
 /// A position, bit for bit.
@@ -99,9 +99,10 @@ fn sample() -> CornerPointGrid {
     strata_grid::open(&path).expect("the sample model")
 }
 
-fn sides(grid: &CornerPointGrid) -> SurfaceMesh {
+/// The side walls of all of `grid`'s layers, coloured by `property`.
+fn sides(grid: &CornerPointGrid, property: Option<&str>) -> SurfaceMesh {
     let nz = grid.dims().nz;
-    side_surfaces(grid, 0..nz, Some("PORO"), grid.display_origin()).expect("side surfaces")
+    side_surfaces(grid, 0..nz, property, grid.display_origin()).expect("side surfaces")
 }
 
 /// `mesh` decimated to `percent` of its triangles as `strata render --lod` does.
@@ -148,10 +149,28 @@ fn check(name: &str, walls: &SurfaceMesh, percent: f64) {
 
 #[test]
 fn the_samples_side_walls_stay_closed() {
-    check("sample", &sides(&sample()), 10.0);
+    check("sample", &sides(&sample(), Some("PORO")), 10.0);
 }
 
 #[test]
 fn a_faulted_models_side_walls_stay_closed() {
-    check("faulted", &sides(&faulted_grid(40, 30)), 10.0);
+    check("faulted", &sides(&faulted_grid(40, 30), Some("PORO")), 10.0);
+}
+
+#[test]
+fn real_models_side_walls_stay_closed() {
+    let Some(data) = shared_data("real_models_side_walls_stay_closed") else {
+        return;
+    };
+    for file in [
+        "reek/REEK.EGRID",
+        "emerald/eme_small_w_hole_grid_params.grdecl",
+    ] {
+        let options = ReadOptions {
+            grid_only: true,
+            ..ReadOptions::default()
+        };
+        let grid = strata_grid::open_with(&data.join(file), &options).expect("a shared model");
+        check(file, &sides(&grid, None), 10.0);
+    }
 }
