@@ -2569,6 +2569,38 @@ mod tests {
     }
 
     #[test]
+    fn boundary_vertices_at_one_place_pair_as_twins_or_are_locked() {
+        let b = ALIVE | BOUNDARY;
+        // Two at x = 0 (a seam); three at x = 1 (locked); one alone at x = 2, beside
+        // an interior vertex at its place (not a boundary: no seam); a pair at x = 3
+        // of which one is locked (both locked).
+        let at = |x: f32| [x, 0.0, 0.0];
+        let positions = [
+            at(0.0),
+            at(0.0),
+            at(1.0),
+            at(1.0),
+            at(1.0),
+            at(2.0),
+            at(2.0),
+            at(3.0),
+            at(3.0),
+        ];
+        let mut flags = [b, b, b, b, b, b, ALIVE, b, b | LOCKED];
+        let twin = seam_twins(&positions, &mut flags);
+        assert_eq!(twin[..2], [1, 0]);
+        assert!(flags[..2].iter().all(|f| f & SEAM != 0 && f & LOCKED == 0));
+        assert!(twin[2..].iter().all(|&t| t == NONE));
+        assert!(flags[2..5].iter().all(|f| f & LOCKED != 0 && f & SEAM == 0));
+        assert_eq!(flags[5..7], [b, ALIVE]);
+        assert!(flags[7..].iter().all(|f| f & LOCKED != 0 && f & SEAM == 0));
+        // No seam: no twins kept at all.
+        let mut apart = [b, b];
+        assert!(seam_twins(&[at(0.0), at(1.0)], &mut apart).is_empty());
+        assert_eq!(apart, [b, b]);
+    }
+
+    #[test]
     fn candidates_stay_small() {
         // A pass holds one per edge: see `Choice::Point`.
         assert_eq!(std::mem::size_of::<Candidate>(), 28);
