@@ -1476,19 +1476,12 @@ impl<'a> Collapser<'a> {
         }
         let q = self.pair(keep_twin, gone_twin);
         let p = self.place(keep_twin, gone_twin, Choice::KeepA)?;
-        let exact = q.error(&self.from(keep_twin, &p.x));
+        let at = self.from(keep_twin, &p.x);
+        let exact = q.error(&at);
         (exact <= bound
             && self.grows_outward(gone_twin, keep_twin)
             && self.can_collapse(keep_twin, gone_twin, &p, false))
-        .then(|| {
-            (
-                keep_twin,
-                gone_twin,
-                q.around(&self.from(keep_twin, &p.x)),
-                p,
-                exact,
-            )
-        })
+        .then(|| (keep_twin, gone_twin, q.around(&at), p, exact))
     }
 
     /// Does triangle `t` keep the direction of its normal and the sign of its texture
