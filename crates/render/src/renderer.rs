@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use image::RgbaImage;
+use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
 use strata_lod::CellCover;
 
@@ -35,6 +36,16 @@ pub const SHARE_VIEWS: [(f32, f32); 24] = {
 
 /// Side of the square frames of [`Renderer::visible_fractions`], in pixels.
 pub const SHARE_SIZE: u32 = 256;
+
+/// Where [`Renderer::visible_fractions_by`] samples its views.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sampling {
+    /// Drawn by the adapter and read back.
+    Adapter,
+    /// Pixel centres tested against each triangle on the CPU's cores, all views at
+    /// once.
+    Cpu,
+}
 
 /// What to look at: camera, image size, and the scene's bounds (unscaled display
 /// frame) from which the depth range is fitted.
@@ -429,52 +440,92 @@ impl Renderer {
     /// [`SHARE_VIEWS`] around the model (each framing all of it, [`SHARE_SIZE`]
     /// pixels square). Stacked layer surfaces show whole at the top and bottom of the
     /// stack from above and below, and little of those between. A surface that covers
-    /// no pixel in any view gets 0.
+    /// no pixel in any view gets 0. Sampled on the CPU's cores where the adapter is a
+    /// CPU rasterizer ([`Sampling::Cpu`]), else drawn by the adapter.
     pub fn visible_fractions(
         &mut self,
         surfaces: &[&SurfaceMesh],
         z_scale: f32,
     ) -> Result<Vec<f64>> {
-        let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
-        let mut all = SurfaceMesh::with_origin(origin);
-        let mut groups = Vec::new();
-        for (g, s) in surfaces.iter().enumerate() {
-            all.append(s);
-            groups.resize(all.vertex_count(), g as u32);
-        }
-        if !all.texcoords.is_empty() && all.texcoords.len() != all.vertex_count() {
-            all.texcoords.clear();
-        }
+        let sampling = if self.gpu.info.device_type == wgpu::DeviceType::Cpu {
+            Sampling::Cpu
+        } else {
+            Sampling::Adapter
+        };
+        self.visible_fractions_by(surfaces, z_scale, sampling)
+    }
+
+    /// [`Renderer::visible_fractions`], sampled as `sampling` says.
+    pub fn visible_fractions_by(
+        &mut self,
+        surfaces: &[&SurfaceMesh],
+        z_scale: f32,
+        sampling: Sampling,
+    ) -> Result<Vec<f64>> {
         let count = surfaces.len();
-        let (mut seen, mut covered) = (vec![0u64; count], vec![0.0f64; count]);
-        let Some((lo, hi)) = all.bounds() else {
+        // Each surface's positions moved to the first one's origin, as
+        // `SurfaceMesh::append` moves them.
+        let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
+        let shifts: Vec<Vec3> = surfaces
+            .iter()
+            .map(|s| Vec3::from_array(std::array::from_fn(|a| (s.origin[a] - origin[a]) as f32)))
+            .collect();
+        let positions = || {
+            surfaces
+                .iter()
+                .zip(&shifts)
+                .flat_map(|(s, &shift)| s.positions.iter().map(move |&p| Vec3::from(p) + shift))
+        };
+        let Some(bounds) = positions()
+            .map(|p| (p, p))
+            .reduce(|(lo, hi), (p, q)| (lo.min(p), hi.max(q)))
+        else {
             return Ok(vec![0.0; count]);
         };
-        let bounds = (Vec3::from(lo), Vec3::from(hi));
-        for &direction in &SHARE_VIEWS {
-            let view = View {
-                camera: Camera::fit_points(
-                    all.positions.iter().map(|&p| Vec3::from(p)),
-                    z_scale,
-                    1.0,
-                    direction,
-                    1.0,
-                ),
-                width: SHARE_SIZE,
-                height: SHARE_SIZE,
-                bounds,
-            };
-            self.set_frame(&view, &Style::default())?;
-            let pixels = validated(&self.gpu, || {
-                crate::visibility::visible_pixels(
-                    &self.gpu,
-                    &self.frame_layout,
-                    &self.bind_group,
-                    (&all, &groups, count),
-                    (view.width, view.height),
-                )
-            })?;
-            let area = crate::visibility::projected_pixels((&all, &groups, count), &view);
+        let view_from = |direction| View {
+            camera: Camera::fit_points(positions(), z_scale, 1.0, direction, 1.0),
+            width: SHARE_SIZE,
+            height: SHARE_SIZE,
+            bounds,
+        };
+        let per_view: Vec<(Vec<u64>, Vec<f64>)> = match sampling {
+            Sampling::Cpu => SHARE_VIEWS
+                .par_iter()
+                .map(|&direction| {
+                    crate::visibility::pixels_on_cpu(surfaces, &shifts, &view_from(direction))
+                })
+                .collect(),
+            Sampling::Adapter => {
+                let mut all = SurfaceMesh::with_origin(origin);
+                let mut groups = Vec::new();
+                for (g, s) in surfaces.iter().enumerate() {
+                    all.append(s);
+                    groups.resize(all.vertex_count(), g as u32);
+                }
+                if !all.texcoords.is_empty() && all.texcoords.len() != all.vertex_count() {
+                    all.texcoords.clear();
+                }
+                let mut per_view = Vec::with_capacity(SHARE_VIEWS.len());
+                for &direction in &SHARE_VIEWS {
+                    let view = &view_from(direction);
+                    self.set_frame(view, &Style::default())?;
+                    let pixels = validated(&self.gpu, || {
+                        crate::visibility::visible_pixels(
+                            &self.gpu,
+                            &self.frame_layout,
+                            &self.bind_group,
+                            (&all, &groups, count),
+                            (view.width, view.height),
+                        )
+                    })?;
+                    let area = crate::visibility::projected_pixels((&all, &groups, count), view);
+                    per_view.push((pixels, area));
+                }
+                per_view
+            }
+        };
+        let (mut seen, mut covered) = (vec![0u64; count], vec![0.0f64; count]);
+        for (pixels, area) in per_view {
             for g in 0..count {
                 seen[g] += pixels[g];
                 covered[g] += area[g];

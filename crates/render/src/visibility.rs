@@ -2,9 +2,10 @@
 //! centre, the piece of the nearest surface (the mesh hiding itself, two-sided), its
 //! cell and how many cells the pixel's neighbours reach, read back. A hierarchy view
 //! reads the model's isoline field only for the tiles it shows; a decimation of
-//! several surfaces splits its budget by the part of each that such frames show.
+//! several surfaces splits its budget by the part of each that such frames show,
+//! sampled on the CPU ([`pixels_on_cpu`]) where the adapter is a CPU rasterizer.
 
-use glam::Vec4;
+use glam::{Vec3, Vec4};
 use strata_grid::SurfaceMesh;
 use strata_lod::CellCover;
 use wgpu::util::DeviceExt;
@@ -351,4 +352,101 @@ pub(crate) fn projected_pixels(
         *total += 0.5 * f64::from(cross.abs());
     }
     area
+}
+
+/// [`visible_pixels`] and [`projected_pixels`] of one view at once, per surface of
+/// `surfaces` drawn in their order, each moved by its `shifts` entry; sampled on the
+/// CPU: each triangle's pixel centres, the nearest surface winning (reversed depth,
+/// the last drawn at equal depth, as the frame's `GreaterEqual` test), with the
+/// frame's transform and depth range. On a CPU rasterizer this is the faster way: at
+/// [`crate::SHARE_SIZE`] most triangles are far under a pixel, and a bounding box with
+/// no pixel centre in it ends one here after a few comparisons, where the rasterizer
+/// sets each up in full. One surface's vertices are projected at a time, so a view
+/// holds a layer's worth of them, never a whole model's.
+pub(crate) fn pixels_on_cpu(
+    surfaces: &[&SurfaceMesh],
+    shifts: &[Vec3],
+    view: &View,
+) -> (Vec<u64>, Vec<f64>) {
+    let count = surfaces.len();
+    let (mut seen, mut area) = (vec![0u64; count], vec![0.0; count]);
+    let camera = &view.camera;
+    let (width, height) = (view.width as usize, view.height as usize);
+    let (near, far) = camera.depth_range(view.bounds.0, view.bounds.1);
+    let clip = camera.view_proj(view.width as f32 / view.height.max(1) as f32, near, far);
+    let (w, h) = (width as f32, height as f32);
+    let mut depth = vec![f32::NEG_INFINITY; width * height];
+    let mut owner = vec![u32::MAX; width * height];
+    // Screen position (pixels, y down) and depth of each vertex, or `None` behind the
+    // eye.
+    let mut screen: Vec<Option<[f32; 3]>> = Vec::new();
+    for (group, (mesh, &shift)) in surfaces.iter().zip(shifts).enumerate() {
+        screen.clear();
+        screen.extend(mesh.positions.iter().map(|&p| {
+            let c = clip * (Vec3::from(p) + shift).extend(1.0);
+            (c.w > 0.0).then(|| {
+                [
+                    (c.x / c.w + 1.0) * 0.5 * w,
+                    (1.0 - c.y / c.w) * 0.5 * h,
+                    c.z / c.w,
+                ]
+            })
+        }));
+        for tri in &mesh.triangles {
+            let corner = |k: usize| screen.get(tri[k] as usize).copied().flatten();
+            let (Some(a), Some(b), Some(c)) = (corner(0), corner(1), corner(2)) else {
+                continue;
+            };
+            let edge = |p: [f32; 3], q: [f32; 3], x: f32, y: f32| {
+                (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0])
+            };
+            let twice = edge(a, b, c[0], c[1]);
+            area[group] += 0.5 * f64::from(twice.abs());
+            if twice == 0.0 || !twice.is_finite() {
+                continue;
+            }
+            // Pixel centres (x + 0.5, y + 0.5) inside the box.
+            let lo = |v: f32| (v - 0.5).ceil().max(0.0);
+            let hi = |v: f32, size: f32| (v - 0.5).floor().min(size - 1.0);
+            let (x0, x1) = (
+                lo(a[0].min(b[0]).min(c[0])),
+                hi(a[0].max(b[0]).max(c[0]), w),
+            );
+            let (y0, y1) = (
+                lo(a[1].min(b[1]).min(c[1])),
+                hi(a[1].max(b[1]).max(c[1]), h),
+            );
+            if x0 > x1 || y0 > y1 {
+                continue;
+            }
+            let inv = 1.0 / twice;
+            for y in y0 as usize..=y1 as usize {
+                let py = y as f32 + 0.5;
+                for x in x0 as usize..=x1 as usize {
+                    let px = x as f32 + 0.5;
+                    // Barycentric weights, all of one sign inside whichever way it turns.
+                    let (wa, wb, wc) = (
+                        edge(b, c, px, py) * inv,
+                        edge(c, a, px, py) * inv,
+                        edge(a, b, px, py) * inv,
+                    );
+                    if wa < 0.0 || wb < 0.0 || wc < 0.0 {
+                        continue;
+                    }
+                    let z = wa * a[2] + wb * b[2] + wc * c[2];
+                    let at = y * width + x;
+                    if z >= depth[at] {
+                        depth[at] = z;
+                        owner[at] = group as u32;
+                    }
+                }
+            }
+        }
+    }
+    for &g in &owner {
+        if let Some(n) = seen.get_mut(g as usize) {
+            *n += 1;
+        }
+    }
+    (seen, area)
 }

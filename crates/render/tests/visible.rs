@@ -5,6 +5,7 @@
 mod support;
 
 use strata_grid::SurfaceMesh;
+use strata_render::{Renderer, Sampling};
 use support::*;
 
 /// A gently curved square of `n` x `n` cells of 10 m at depth offset `z`.
@@ -59,4 +60,43 @@ fn stacked_surfaces_hide_those_between_top_and_bottom() {
         .visible_fractions(&[&stack[0], &empty], 5.0)
         .expect("visible fractions");
     assert_eq!(seen[1], 0.0, "{name}: {seen:?}");
+}
+
+/// The fractions of both samplings, each surface's within `tolerance`.
+fn both_agree(r: &mut Renderer, surfaces: &[&SurfaceMesh], tolerance: f64) -> Vec<f64> {
+    let name = backend(r);
+    let cpu = r
+        .visible_fractions_by(surfaces, 5.0, Sampling::Cpu)
+        .expect("sampled on the CPU");
+    let drawn = r
+        .visible_fractions_by(surfaces, 5.0, Sampling::Adapter)
+        .expect("drawn by the adapter");
+    assert_eq!(cpu.len(), surfaces.len());
+    for (a, b) in cpu.iter().zip(&drawn) {
+        assert!(
+            (a - b).abs() <= tolerance,
+            "{name}: CPU {cpu:?}, adapter {drawn:?}"
+        );
+    }
+    cpu
+}
+
+#[test]
+fn sampling_on_the_cpu_sees_what_the_adapter_draws() {
+    let mut r = renderer();
+    // Stacked, one moved aside, and one tilted through the others: the nearest surface
+    // changes across each frame.
+    let mut stack: Vec<SurfaceMesh> = (0..4).map(|k| layer(20, -2.0 * k as f32)).collect();
+    for p in &mut stack[1].positions {
+        p[0] += 100.0;
+    }
+    for p in &mut stack[2].positions {
+        p[2] += 0.05 * (p[0] - 100.0);
+    }
+    let seen = both_agree(&mut r, &stack.iter().collect::<Vec<_>>(), 0.005);
+    assert!(seen.iter().all(|&s| s > 0.0), "{seen:?}");
+    // At equal depth the surface drawn last shows, in both: a copy hides its original.
+    let one = layer(20, 0.0);
+    let seen = both_agree(&mut r, &[&one, &one.clone()], 0.005);
+    assert!(seen[0] < 0.01 && (seen[1] - 1.0).abs() < 0.03, "{seen:?}");
 }
