@@ -34,6 +34,7 @@ pub mod measure;
 mod quadric;
 mod reference;
 mod share;
+mod stitch;
 
 pub use choose::{Chosen, Maker, decimate_chosen};
 pub use cover::{CellCover, CoverPiece, cell_of};
@@ -45,3 +46,4 @@ pub use file::{
 pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
 pub use reference::{NONE, Reference, SurfacePoint, closest_on_triangle};
 pub use share::{MIN_VISIBLE, SurfaceShare, share_budget, share_surfaces};
+pub use stitch::{Stitched, stitch};

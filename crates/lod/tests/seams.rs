@@ -9,8 +9,8 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use common::{edge_uses, faulted_grid, shared_data};
-use strata_grid::{CornerPointGrid, ReadOptions, SurfaceMesh, side_surfaces};
-use strata_lod::{Options, decimate, decimate_chosen};
+use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
+use strata_lod::{Options, decimate, decimate_chosen, stitch};
 
 /// A position, bit for bit.
 type Key = [u32; 3];
@@ -145,6 +145,88 @@ fn check(name: &str, walls: &SurfaceMesh, percent: f64) {
             "{name} {how}: {kept} triangles"
         );
     }
+}
+
+/// The top of `grid`'s first layer, the bottom of its last and its side walls, as
+/// `strata render --sides` draws them, decimated to `percent` each: where their
+/// outlines meet, they leave slivers open until stitched.
+fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_open: usize) {
+    let (nz, origin) = (grid.dims().nz, grid.display_origin());
+    let surfaces = [
+        layer_surface(grid, 0, Face::Top, None, origin).expect("top"),
+        layer_surface(grid, nz - 1, Face::Bottom, None, origin).expect("bottom"),
+        sides(grid, None),
+    ];
+    let appended = |meshes: &mut dyn Iterator<Item = &SurfaceMesh>| {
+        let mut all = SurfaceMesh::with_origin(origin);
+        meshes.for_each(|m| all.append(m));
+        all
+    };
+    let input = appended(&mut surfaces.iter());
+    let seams = seams(&input);
+    let extent = input
+        .positions
+        .iter()
+        .flat_map(|p| p.map(|c| f64::from(c).abs()))
+        .fold(0.0, f64::max);
+    let tolerance = 1e-6 * extent;
+    let (edges, open) = open_seam_edges(&input, &seams, tolerance);
+    assert!(
+        edges > 100 && open == 0,
+        "{name}: {edges} seam edges, {open} open before decimating"
+    );
+    let mut outputs: Vec<_> = surfaces
+        .iter()
+        .map(|m| {
+            decimate_chosen(m, &options(m, percent))
+                .expect("decimate_chosen")
+                .decimated
+        })
+        .collect();
+    let before = appended(&mut outputs.iter().map(|d| &d.mesh));
+    let (_, open_before) = open_seam_edges(&before, &seams, tolerance);
+    let inputs: Vec<&SurfaceMesh> = surfaces.iter().collect();
+    let mut again = outputs.clone();
+    let stitched = stitch(&inputs, &mut outputs.iter_mut().collect::<Vec<_>>());
+    // Deterministic: the same again, bit for bit.
+    assert_eq!(
+        stitch(&inputs, &mut again.iter_mut().collect::<Vec<_>>()),
+        stitched
+    );
+    for (a, b) in outputs.iter().zip(&again) {
+        assert!(a.mesh == b.mesh && a.source == b.source && a.home == b.home);
+    }
+    let after = appended(&mut outputs.iter().map(|d| &d.mesh));
+    let (left, open) = open_seam_edges(&after, &seams, tolerance);
+    eprintln!(
+        "{name}: {} -> {} -> {} triangles, {open_before} seam edges open, {stitched:?}, \
+         then {open} of {left}",
+        input.triangle_count(),
+        before.triangle_count(),
+        after.triangle_count(),
+    );
+    // A node whose split would fold a triangle stays out: `most_open` seam edges may
+    // stay open (the faulted model's walls have two such nodes and one open edge).
+    assert!(stitched.inserted > 0, "{name}: {stitched:?}");
+    assert!(
+        open <= most_open && open * 10 <= open_before,
+        "{name}: {open} of {left} seam edges open, {open_before} before stitching"
+    );
+    assert!(
+        (after.triangle_count() as f64) < 0.5 * input.triangle_count() as f64,
+        "{name}: {} triangles",
+        after.triangle_count()
+    );
+}
+
+#[test]
+fn the_samples_tops_and_walls_meet_once_stitched() {
+    check_stitched("sample", &sample(), 10.0, 0);
+}
+
+#[test]
+fn a_faulted_models_tops_and_walls_meet_once_stitched() {
+    check_stitched("faulted", &faulted_grid(40, 30), 10.0, 1);
 }
 
 #[test]
