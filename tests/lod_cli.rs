@@ -429,6 +429,48 @@ fn render_sample(png: &Path, size: &str, options: &[&str]) -> String {
 }
 
 #[test]
+fn render_lod_stitch_closes_the_outlines_the_surfaces_share() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let png = |name: &str| dir.path().join(format!("{name}.png"));
+    let size = "600x450";
+    render_sample(&png("full"), size, &["--sides"]);
+    let plain = render_sample(&png("plain"), size, &["--sides", "--lod", "10"]);
+    let stitched = render_sample(
+        &png("stitched"),
+        size,
+        &["--sides", "--lod", "10", "--stitch"],
+    );
+    let triangles = |printed: &str, name: &str| {
+        word_after(printed, &format!("{name}.png: ")).and_then(|w| w.parse::<usize>().ok())
+    };
+    let put_back = word_after(&stitched, "share: ").and_then(|w| w.parse::<usize>().ok());
+    eprintln!("{plain}\n{stitched}");
+    assert!(!plain.contains("stitched"), "{plain}");
+    assert!(put_back.is_some_and(|n| n > 0), "{stitched}");
+    assert_eq!(
+        triangles(&stitched, "stitched"),
+        triangles(&plain, "plain").zip(put_back).map(|(t, n)| t + n),
+        "a triangle for each node put back"
+    );
+    // Pixels where the decimated frame draws the model and the original's background,
+    // or the other way round: the side walls' top edge, which ran through other nodes
+    // than the top's outline, now follows the same ones.
+    let picture = |name: &str| image::open(png(name)).expect("a PNG").to_rgba8();
+    let background = |p: &image::Rgba<u8>| p[0] > 250 && p[1] > 250 && p[2] > 250;
+    let full = picture("full");
+    let astray = |name: &str| {
+        picture(name)
+            .pixels()
+            .zip(full.pixels())
+            .filter(|(p, q)| background(p) != background(q))
+            .count()
+    };
+    let (before, after) = (astray("plain"), astray("stitched"));
+    eprintln!("outline pixels astray: {before} without --stitch, {after} with");
+    assert!(after < before, "{after} against {before}");
+}
+
+#[test]
 fn render_lod_says_which_wireframes_colour_by_cell() {
     // The cell colours themselves are measured in strata-render's tests/covered.rs.
     let dir = tempfile::tempdir().expect("a temporary folder");

@@ -10,8 +10,8 @@ use rayon::prelude::*;
 use strata::grid::SurfaceMesh;
 use strata::lod::measure::deviation;
 use strata::lod::{
-    BuildOptions, CellCover, LodFile, Maker, Options, ViewPoint, build_file, decimate_chosen,
-    share_surfaces,
+    BuildOptions, CellCover, LodFile, Maker, Options, Stitched, ViewPoint, build_file,
+    decimate_chosen, share_surfaces,
 };
 use strata::render::glam::Vec3;
 use strata::render::wire::Drawable;
@@ -587,14 +587,15 @@ impl SceneCells {
 /// the results in order. With `cover` the outlines only grow outward; with
 /// `against_cells` (or `cover`), the input's cells come back, to colour and line the
 /// result by and to trim it to, with the stacked surfaces' order ([`SceneCells`]).
+/// With `stitch`, the surfaces meet again where their outlines do
+/// (`strata_lod::stitch`).
 pub fn decimate_scene(
     renderer: &mut Renderer,
     surfaces: &[SurfaceMesh],
     stacked: usize,
     percent: f64,
     z_scale: f32,
-    cover: bool,
-    against_cells: bool,
+    (cover, against_cells, stitch): (bool, bool, bool),
 ) -> Result<(SurfaceMesh, Option<SceneCells>)> {
     let start = Instant::now();
     let total: usize = surfaces.iter().map(SurfaceMesh::triangle_count).sum();
@@ -629,6 +630,18 @@ pub fn decimate_scene(
         })
         .collect::<strata::lod::Result<Vec<_>>>()
         .context("decimating the scene")?;
+    let mut chosen = chosen;
+    let stitched = if stitch {
+        strata::lod::stitch(
+            &surfaces.iter().collect::<Vec<_>>(),
+            &mut chosen
+                .iter_mut()
+                .map(|(c, _)| &mut c.decimated)
+                .collect::<Vec<_>>(),
+        )
+    } else {
+        Stitched::default()
+    };
     let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
     let mut out = SurfaceMesh::with_origin(origin);
     for (c, _) in &chosen {
@@ -658,6 +671,22 @@ pub fn decimate_scene(
             String::new()
         },
     );
+    if stitched.inserted + stitched.skipped > 0 {
+        eprintln!(
+            "stitched the outlines the surfaces share: {} nodes one of them kept put back \
+             into the others (a triangle each){}",
+            stitched.inserted,
+            if stitched.skipped > 0 {
+                format!(
+                    ", {} left out (where a triangle would fold, or the outline left the \
+                     input's)",
+                    stitched.skipped
+                )
+            } else {
+                String::new()
+            }
+        );
+    }
     let below: Vec<_> = chosen.iter().filter_map(|(_, b)| *b).collect();
     if !below.is_empty() {
         eprintln!(

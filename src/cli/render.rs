@@ -74,6 +74,14 @@ pub struct RenderArgs {
     /// budget; the result is fitted to the original grid lines. Global wireframe only.
     #[arg(long, requires = "lod")]
     cover: bool,
+    /// With --lod: close the slivers between surfaces that share an outline (the top
+    /// and bottom against the side walls with --sides, a layer against the walls of a
+    /// hole or fault): each surface is decimated on its own, keeping different nodes
+    /// of the shared outline; each node one of them kept is put back into the others,
+    /// a triangle each. At 10 %, the sample with --sides went from 1 373 to 1 726
+    /// triangles, Reek from 9 470 to 15 044.
+    #[arg(long, requires = "lod")]
+    stitch: bool,
     /// Hold at most this many active cells' surfaces at a time. A scene with more is
     /// drawn in parts (runs of layers, a larger layer in bands of rows; tops, then the
     /// bottom, then sides), each dropped once drawn, so that a model of any size draws
@@ -156,8 +164,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                 stacked,
                 percent,
                 args.frame.zscale,
-                args.cover,
-                by_cells,
+                (args.cover, by_cells, args.stitch),
             )?;
             (mesh, scene::colour_range_of(&grid, &options)?, cells)
         }
