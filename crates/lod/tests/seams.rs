@@ -94,6 +94,16 @@ fn open_seam_edges(mesh: &SurfaceMesh, seams: &[[[f64; 3]; 2]], tolerance: f64) 
     (edges.len(), open)
 }
 
+/// How near two places must be to count as one: a millionth of `mesh`'s extent.
+fn tolerance(mesh: &SurfaceMesh) -> f64 {
+    let extent = mesh
+        .positions
+        .iter()
+        .flat_map(|p| p.map(|c| f64::from(c).abs()))
+        .fold(0.0, f64::max);
+    1e-6 * extent
+}
+
 fn sample() -> CornerPointGrid {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/sample.grdecl");
     strata_grid::open(&path).expect("the sample model")
@@ -117,12 +127,7 @@ fn options(mesh: &SurfaceMesh, percent: f64) -> Options {
 /// leaves open, by [`decimate`] and by [`decimate_chosen`].
 fn check(name: &str, walls: &SurfaceMesh, percent: f64) {
     let seams = seams(walls);
-    let extent = walls
-        .positions
-        .iter()
-        .flat_map(|p| p.map(|c| f64::from(c).abs()))
-        .fold(0.0, f64::max);
-    let tolerance = 1e-6 * extent;
+    let tolerance = tolerance(walls);
     let (edges, open) = open_seam_edges(walls, &seams, tolerance);
     assert!(
         edges > 50 && open == 0,
@@ -164,12 +169,7 @@ fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_open: u
     };
     let input = appended(&mut surfaces.iter());
     let seams = seams(&input);
-    let extent = input
-        .positions
-        .iter()
-        .flat_map(|p| p.map(|c| f64::from(c).abs()))
-        .fold(0.0, f64::max);
-    let tolerance = 1e-6 * extent;
+    let tolerance = tolerance(&input);
     let (edges, open) = open_seam_edges(&input, &seams, tolerance);
     assert!(
         edges > 100 && open == 0,
