@@ -314,11 +314,16 @@ impl CellCover {
     }
 
     /// Appends the pieces of `other`, the cover of a surface appended to this one's
-    /// ([`SurfaceMesh::append`]), as pieces of their own.
+    /// ([`SurfaceMesh::append`]), as pieces of their own; a vertex of no piece (in no
+    /// triangle) stays in none.
     pub fn append(&mut self, other: &CellCover) {
         let first = self.pieces.len() as u32;
-        self.vertex_piece
-            .extend(other.vertex_piece.iter().map(|&p| p + first));
+        self.vertex_piece.extend(
+            other
+                .vertex_piece
+                .iter()
+                .map(|&p| if p == u32::MAX { p } else { p + first }),
+        );
         self.pieces.extend_from_slice(&other.pieces);
     }
 
@@ -418,6 +423,30 @@ mod tests {
         let a = cover.vertex_piece[mesh.triangles[0][0] as usize];
         let b = cover.vertex_piece[mesh.triangles[10][0] as usize];
         assert_ne!(a, b);
+    }
+
+    #[test]
+    fn appended_covers_number_their_pieces_on_and_leave_unused_vertices_in_none() {
+        let mut mesh = two_pieces();
+        // A vertex no triangle uses, as side walls can have.
+        mesh.positions.push([0.0; 3]);
+        mesh.texcoords.push([0.0; 2]);
+        let cover = CellCover::of(&mesh).expect("cell faces");
+        let unused = mesh.vertex_count() - 1;
+        assert_eq!(cover.vertex_piece[unused], u32::MAX);
+        let mut both = cover.clone();
+        both.append(&cover);
+        assert_eq!(both.pieces.len(), 4);
+        assert_eq!(both.vertex_piece[2 * mesh.vertex_count() - 1], u32::MAX);
+        let n = mesh.vertex_count();
+        for v in 0..n {
+            let (p, q) = (both.vertex_piece[v], both.vertex_piece[n + v]);
+            if p == u32::MAX {
+                assert_eq!(q, u32::MAX, "vertex {v}");
+            } else {
+                assert_eq!(q, p + 2, "vertex {v}");
+            }
+        }
     }
 
     #[test]
