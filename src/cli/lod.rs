@@ -608,7 +608,7 @@ pub fn decimate_scene(
     };
     let shares = share_surfaces(percent / 100.0, surfaces, &visible);
     let measured = start.elapsed().as_secs_f64();
-    let chosen = surfaces
+    let mut chosen = surfaces
         .par_iter()
         .zip(&shares)
         .map(|(mesh, &target)| {
@@ -630,7 +630,6 @@ pub fn decimate_scene(
         })
         .collect::<strata::lod::Result<Vec<_>>>()
         .context("decimating the scene")?;
-    let mut chosen = chosen;
     let stitched = if stitch {
         strata::lod::stitch(
             &surfaces.iter().collect::<Vec<_>>(),

@@ -58,7 +58,11 @@ fn outline_edges(mesh: &SurfaceMesh) -> Vec<((u32, u32), u32)> {
 
 impl Outline {
     fn of(mesh: &SurfaceMesh) -> Outline {
-        let n = mesh.vertex_count();
+        Outline::from_edges(mesh.vertex_count(), &outline_edges(mesh))
+    }
+
+    /// The outline of a mesh of `n` vertices whose [`outline_edges`] are `edges`.
+    fn from_edges(n: usize, edges: &[((u32, u32), u32)]) -> Outline {
         let mut out = Outline {
             next: vec![NONE; n],
             prev: vec![NONE; n],
@@ -68,7 +72,7 @@ impl Outline {
         // Outline edges starting and ending at each vertex: more than one of either
         // where several outlines pass.
         let (mut starting, mut ending) = (vec![0u8; n], vec![0u8; n]);
-        for ((p, q), t) in outline_edges(mesh) {
+        for &((p, q), t) in edges {
             let (p, q) = (p as usize, q as usize);
             starting[p] = starting[p].saturating_add(1);
             ending[q] = ending[q].saturating_add(1);
@@ -133,6 +137,7 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
     // sides of a seam can share those; they do not share triangles), else the input
     // outline vertex of its texture coordinates nearest to it.
     let mut present: Vec<HashMap<u32, u32>> = Vec::with_capacity(inputs.len());
+    let mut output_edges = Vec::with_capacity(inputs.len());
     for (s, output) in outputs.iter().enumerate() {
         let (input, outline) = (inputs[s], &outlines[s]);
         let mut by_texcoord: HashMap<[u32; 2], Vec<u32>> = HashMap::new();
@@ -144,7 +149,9 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
                     .push(v as u32);
             }
         }
-        let own = Outline::of(&output.mesh);
+        let edges = outline_edges(&output.mesh);
+        let own = Outline::from_edges(output.mesh.vertex_count(), &edges);
+        output_edges.push(edges);
         let mut kept = HashMap::new();
         for (o, &source) in output.source.iter().enumerate() {
             if !own.on(o as u32) {
@@ -201,7 +208,7 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
         vertices.sort_unstable();
         vertices.dedup();
         let mut edges: HashMap<(u32, u32), u32> =
-            outline_edges(&outputs[s].mesh).into_iter().collect();
+            std::mem::take(&mut output_edges[s]).into_iter().collect();
         for &v in vertices.iter() {
             match put_back(
                 inputs[s],
