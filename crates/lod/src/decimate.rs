@@ -1488,10 +1488,15 @@ impl<'a> Collapser<'a> {
         let p = self.place(keep_twin, gone_twin, Choice::KeepA)?;
         let at = self.from(keep_twin, &p.x);
         let exact = q.error(&at);
-        (exact <= bound
-            && self.grows_outward(gone_twin, keep_twin)
-            && self.can_collapse(keep_twin, gone_twin, &p, false))
-        .then(|| (keep_twin, gone_twin, q.around(&at), p, exact))
+        self.endpoint_allows(keep_twin, gone_twin, &p, exact, bound)
+            .then(|| (keep_twin, gone_twin, q.around(&at), p, exact))
+    }
+
+    /// May `gone` go onto `keep`, which stays at `p`, at cost `exact` within `bound`?
+    /// Checked again when tried: earlier collapses of the pass may have moved `gone`'s
+    /// neighbours on the boundary since the edge was evaluated.
+    fn endpoint_allows(&mut self, keep: u32, gone: u32, p: &Spot, exact: f64, bound: f64) -> bool {
+        exact <= bound && self.grows_outward(gone, keep) && self.can_collapse(keep, gone, p, false)
     }
 
     /// Does triangle `t` keep the direction of its normal and the sign of its texture
@@ -1921,12 +1926,7 @@ impl<'a> Collapser<'a> {
         };
         let at = self.from(a, &p.x);
         let exact = q.error(&at);
-        // Earlier collapses of the pass may have moved `gone`'s neighbours on the
-        // boundary since the edge was evaluated.
-        if !(exact <= bound
-            && self.grows_outward(gone, keep)
-            && self.can_collapse(keep, gone, &p, false))
-        {
+        if !self.endpoint_allows(keep, gone, &p, exact, bound) {
             return;
         }
         let twin = if self.flag(gone, SEAM) {

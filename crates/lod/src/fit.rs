@@ -30,7 +30,7 @@ use strata_grid::SurfaceMesh;
 use crate::Decimated;
 use crate::decimate::{NEW, coincident, cross3, dot3, sub3p};
 use crate::measure::Located;
-use crate::reference::{NONE, VertexTriangles, triangle_adjacency};
+use crate::reference::{NONE, VertexTriangles, boundary_edges, triangle_adjacency};
 
 /// Most Gauss-Seidel sweeps; on emerald's layers the line-pixel F1 stopped changing
 /// after 4.
@@ -182,15 +182,10 @@ const HELD: u32 = NONE - 1;
 fn seam_partners(mesh: &SurfaceMesh, star: &VertexTriangles) -> Vec<u32> {
     let n = mesh.vertex_count();
     let mut on_boundary = vec![false; n];
-    for (tri, across) in mesh
-        .triangles
-        .iter()
-        .zip(triangle_adjacency(&mesh.triangles, star))
-    {
-        for k in (0..3).filter(|&k| across[k] == NONE) {
-            on_boundary[tri[(k + 1) % 3] as usize] = true;
-            on_boundary[tri[(k + 2) % 3] as usize] = true;
-        }
+    let adjacency = triangle_adjacency(&mesh.triangles, star);
+    for ((p, q), _) in boundary_edges(&mesh.triangles, &adjacency) {
+        on_boundary[p as usize] = true;
+        on_boundary[q as usize] = true;
     }
     let (pairs, crowded) = coincident(
         &mesh.positions,

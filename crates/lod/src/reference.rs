@@ -79,6 +79,22 @@ impl VertexTriangles {
     }
 }
 
+/// The boundary edges of `triangles` (those with no neighbour in `adjacency`, their
+/// [`triangle_adjacency`]), in the triangles' winding, each with its triangle, in
+/// triangle order.
+pub(crate) fn boundary_edges(
+    triangles: &[[u32; 3]],
+    adjacency: &[[u32; 3]],
+) -> Vec<((u32, u32), u32)> {
+    let mut edges = Vec::new();
+    for (t, (tri, across)) in triangles.iter().zip(adjacency).enumerate() {
+        for k in (0..3).filter(|&k| across[k] == NONE) {
+            edges.push(((tri[(k + 1) % 3], tri[(k + 2) % 3]), t as u32));
+        }
+    }
+    edges
+}
+
 /// Per triangle, the neighbour across each edge (opposite each corner): the one other
 /// triangle that has both its ends, [`NONE`] when none or several do.
 /// Sequential: decimation runs in one thread (callers parallelise across meshes), so

@@ -13,7 +13,7 @@ use std::collections::HashMap;
 
 use strata_grid::SurfaceMesh;
 
-use crate::reference::{NONE, VertexTriangles, triangle_adjacency};
+use crate::reference::{NONE, VertexTriangles, boundary_edges, triangle_adjacency};
 use crate::{Decimated, NEW};
 
 /// What [`stitch`] did.
@@ -40,20 +40,10 @@ struct Outline {
     on: Vec<bool>,
 }
 
-/// The outline edges of `mesh` (those of one triangle), in its triangles' winding,
-/// each with its triangle, in triangle order.
+/// The outline edges of `mesh` ([`boundary_edges`]).
 fn outline_edges(mesh: &SurfaceMesh) -> Vec<((u32, u32), u32)> {
     let vt = VertexTriangles::new(mesh.vertex_count(), &mesh.triangles);
-    let adjacency = triangle_adjacency(&mesh.triangles, &vt);
-    let mut edges = Vec::new();
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        for k in 0..3 {
-            if adjacency[t][k] == NONE {
-                edges.push(((tri[(k + 1) % 3], tri[(k + 2) % 3]), t as u32));
-            }
-        }
-    }
-    edges
+    boundary_edges(&mesh.triangles, &triangle_adjacency(&mesh.triangles, &vt))
 }
 
 impl Outline {

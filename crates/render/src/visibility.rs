@@ -5,7 +5,7 @@
 //! several surfaces splits its budget by the part of each that such frames show,
 //! sampled on the CPU ([`pixels_on_cpu`]) where the adapter is a CPU rasterizer.
 
-use glam::{Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use strata_grid::SurfaceMesh;
 use strata_lod::CellCover;
 use wgpu::util::DeviceExt;
@@ -311,6 +311,19 @@ pub(crate) fn visible_pixels(
     Ok(pixels)
 }
 
+/// Where `clip` puts `p` on a `width` x `height` picture: pixels from the top left,
+/// y down, and depth; `None` behind the eye.
+fn on_screen(clip: &Mat4, p: Vec3, (width, height): (f32, f32)) -> Option<[f32; 3]> {
+    let c = *clip * p.extend(1.0);
+    (c.w > 0.0).then(|| {
+        [
+            (c.x / c.w + 1.0) * 0.5 * width,
+            (1.0 - c.y / c.w) * 0.5 * height,
+            c.z / c.w,
+        ]
+    })
+}
+
 /// Per group of `groups` (one per vertex of `mesh`, under `count`), the area in pixels
 /// its triangles cover in `view`, each counted whole whatever hides it: where
 /// [`visible_pixels`] counts what is seen, this counts what could be.
@@ -323,18 +336,10 @@ pub(crate) fn projected_pixels(
     // Depth does not change where a point lands on the picture: any near and far do.
     let clip =
         camera.projection(width / height.max(1.0), 1.0, 2.0) * camera.view() * camera.model();
-    let screen: Vec<Option<[f32; 2]>> = mesh
+    let screen: Vec<Option<[f32; 3]>> = mesh
         .positions
         .iter()
-        .map(|&p| {
-            let c = clip * Vec4::new(p[0], p[1], p[2], 1.0);
-            (c.w > 0.0).then(|| {
-                [
-                    (c.x / c.w + 1.0) * 0.5 * width,
-                    (1.0 - c.y / c.w) * 0.5 * height,
-                ]
-            })
-        })
+        .map(|&p| on_screen(&clip, Vec3::from(p), (width, height)))
         .collect();
     let mut area = vec![0.0; count];
     for tri in &mesh.triangles {
@@ -377,21 +382,15 @@ pub(crate) fn pixels_on_cpu(
     let (w, h) = (width as f32, height as f32);
     let mut depth = vec![f32::NEG_INFINITY; width * height];
     let mut owner = vec![u32::MAX; width * height];
-    // Screen position (pixels, y down) and depth of each vertex, or `None` behind the
-    // eye.
+    // Each vertex's place [`on_screen`].
     let mut screen: Vec<Option<[f32; 3]>> = Vec::new();
     for (group, (mesh, &shift)) in surfaces.iter().zip(shifts).enumerate() {
         screen.clear();
-        screen.extend(mesh.positions.iter().map(|&p| {
-            let c = clip * (Vec3::from(p) + shift).extend(1.0);
-            (c.w > 0.0).then(|| {
-                [
-                    (c.x / c.w + 1.0) * 0.5 * w,
-                    (1.0 - c.y / c.w) * 0.5 * h,
-                    c.z / c.w,
-                ]
-            })
-        }));
+        screen.extend(
+            mesh.positions
+                .iter()
+                .map(|&p| on_screen(&clip, Vec3::from(p) + shift, (w, h))),
+        );
         for tri in &mesh.triangles {
             let corner = |k: usize| screen.get(tri[k] as usize).copied().flatten();
             let (Some(a), Some(b), Some(c)) = (corner(0), corner(1), corner(2)) else {
