@@ -673,8 +673,17 @@ pub fn decimate_scene(
     if stitched.inserted + stitched.skipped > 0 {
         eprintln!(
             "stitched the outlines the surfaces share: {} nodes one of them kept put back \
-             into the others (a triangle each){}",
+             into the others (a triangle each){}{}",
             stitched.inserted,
+            if stitched.on_edge > 0 {
+                format!(
+                    ", {} of them on the edge they split, where their own place would fold a \
+                     triangle (their copies moved there too)",
+                    stitched.on_edge
+                )
+            } else {
+                String::new()
+            },
             if stitched.skipped > 0 {
                 format!(
                     ", {} left out (where a triangle would fold, or the outline left the \

@@ -7,7 +7,10 @@
 //! background shows. [`stitch`] makes every node of such a shared outline that one
 //! surface kept a node of the others too, by splitting their outline edge at it, and
 //! puts all of them back where the input had them (a fit or lift may have moved one
-//! side only).
+//! side only). Where the input's place would turn the split triangle over (a wall
+//! thinning to nothing under an outline the decimation straightened), the node goes
+//! on the edge it splits instead, and its copies in the other surfaces follow it
+//! there.
 
 use std::collections::HashMap;
 
@@ -21,13 +24,21 @@ use crate::{Decimated, NEW};
 pub struct Stitched {
     /// Outline nodes put back into a surface that had dropped them, one triangle each.
     pub inserted: usize,
+    /// Of those, the nodes put on the outline edge they split rather than where the
+    /// input has them, which would have turned a triangle over; their copies in the
+    /// other surfaces moved there too.
+    pub on_edge: usize,
     /// Shared outline nodes that could not be put back (the surface's outline there
-    /// no longer runs along the input's, or the split would fold a triangle).
+    /// no longer runs along the input's, or the split would fold a triangle even on
+    /// the edge), or whose copy could not follow one put on an edge without folding.
     pub skipped: usize,
 }
 
 /// A position, bit for bit.
 type Key = [u32; 3];
+
+/// An output's outline edges, each with its triangle, kept up to date as edges split.
+type EdgeTriangles = HashMap<(u32, u32), u32>;
 
 /// The outline of a mesh: per vertex on it, the next and previous vertex along it
 /// (in the triangles' winding) and a triangle with the edge to the next; [`NONE`]
@@ -91,9 +102,11 @@ impl Outline {
 /// itself as reference, as [`crate::decimate_chosen`] makes them), shares with the
 /// others: where two inputs have outline vertices at the same position, bit for bit,
 /// and relative to the same origin. After it, each shared outline node is in all the
-/// outputs whose inputs have it or in none, at its input position, so the outlines
-/// run through the same nodes along straight edges. Each node put back costs a
-/// triangle. Nothing changes unless there is an output for every input.
+/// outputs whose inputs have it or in none, at its input position (or, where that
+/// would fold a triangle, at one place between it and the edge a surface split for
+/// it), so the outlines run through the same nodes along straight edges. Each node
+/// put back costs a triangle. Nothing changes unless there is an output for every
+/// input.
 pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitched {
     let mut stitched = Stitched::default();
     let Some(origin) = inputs.first().map(|m| m.origin) else {
@@ -121,6 +134,9 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
     if at.is_empty() {
         return stitched;
     }
+    // In one order, so that the result does not depend on the map's.
+    let mut shared: Vec<(Key, Vec<(usize, u32)>)> = at.into_iter().collect();
+    shared.sort_unstable_by_key(|(key, _)| *key);
     // Per surface, the output vertex of each input outline vertex it kept: by
     // `source`, or, for one a fit or lift moved (texture coordinates stay), the corner
     // of its home triangle with its texture coordinates (coincident vertices on two
@@ -182,7 +198,9 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
     }
     // Nodes one surface kept go back into the others.
     let mut missing: Vec<Vec<u32>> = vec![Vec::new(); inputs.len()];
-    for list in at.values() {
+    // Nodes put on an edge, by their input position: where their copies go.
+    let mut on_edge: HashMap<Key, [f32; 3]> = HashMap::new();
+    for (_, list) in &shared {
         if list.iter().any(|(s, v)| present[*s].contains_key(v)) {
             for &(s, v) in list {
                 if !present[s].contains_key(&v) {
@@ -197,27 +215,35 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
         }
         vertices.sort_unstable();
         vertices.dedup();
-        let mut edges: HashMap<(u32, u32), u32> =
-            std::mem::take(&mut output_edges[s]).into_iter().collect();
+        let mut edges: EdgeTriangles = std::mem::take(&mut output_edges[s]).into_iter().collect();
         for &v in vertices.iter() {
+            let own = inputs[s].positions[v as usize];
+            let agreed = on_edge.get(&own.map(f32::to_bits)).copied();
             match put_back(
                 inputs[s],
                 &outlines[s],
                 outputs[s],
-                &present[s],
-                &mut edges,
+                (&present[s], &mut edges),
                 v,
+                agreed,
             ) {
-                Some(o) => {
+                Some((o, position)) => {
                     present[s].insert(v, o);
                     stitched.inserted += 1;
+                    if position != own {
+                        on_edge.insert(own.map(f32::to_bits), position);
+                        stitched.on_edge += 1;
+                    }
                 }
                 None => stitched.skipped += 1,
             }
         }
     }
     // Every shared node where its input has it: the input vertex again.
-    for list in at.values() {
+    for (key, list) in &shared {
+        if on_edge.contains_key(key) {
+            continue;
+        }
         for &(s, v) in list {
             if let Some(&o) = present[s].get(&v) {
                 outputs[s].mesh.positions[o as usize] = inputs[s].positions[v as usize];
@@ -225,23 +251,134 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
             }
         }
     }
+    // Then, their neighbours in place, those one surface put on an edge: all copies
+    // at the first point from the input's place towards that edge where none of them
+    // folds a triangle (the surface that split its edge there too), else each copy
+    // that can at the edge.
+    let mut stars: Vec<Option<VertexTriangles>> = (0..outputs.len()).map(|_| None).collect();
+    for (key, list) in &shared {
+        let Some(&edge) = on_edge.get(key) else {
+            continue;
+        };
+        let copies: Vec<(usize, u32, u32)> = list
+            .iter()
+            .filter_map(|&(s, v)| present[s].get(&v).map(|&o| (s, v, o)))
+            .collect();
+        for &(s, _, _) in &copies {
+            let mesh = &outputs[s].mesh;
+            stars[s]
+                .get_or_insert_with(|| VertexTriangles::new(mesh.vertex_count(), &mesh.triangles));
+        }
+        let unfolded = |s: usize, o: u32, position: [f32; 3]| {
+            stars[s]
+                .as_ref()
+                .is_some_and(|star| moves_unfolded(&outputs[s].mesh, star, o, position))
+        };
+        let own = point(key.map(f32::from_bits));
+        let common = TOWARDS_THE_EDGE.iter().find_map(|&part| {
+            let position: [f32; 3] =
+                std::array::from_fn(|i| (own[i] + part * (f64::from(edge[i]) - own[i])) as f32);
+            copies
+                .iter()
+                .all(|&(s, _, o)| unfolded(s, o, position))
+                .then_some(position)
+        });
+        let moves: Vec<Option<[f32; 3]>> = copies
+            .iter()
+            .map(|&(s, _, o)| common.or_else(|| unfolded(s, o, edge).then_some(edge)))
+            .collect();
+        for ((s, v, o), position) in copies.into_iter().zip(moves) {
+            let Some(position) = position else {
+                stitched.skipped += 1;
+                continue;
+            };
+            outputs[s].mesh.positions[o as usize] = position;
+            outputs[s].source[o as usize] = v;
+        }
+    }
     stitched
 }
+
+/// The normal of triangle `a b c` (twice its area).
+fn normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
+    let (u, w): ([f64; 3], [f64; 3]) = (
+        std::array::from_fn(|i| b[i] - a[i]),
+        std::array::from_fn(|i| c[i] - a[i]),
+    );
+    [
+        u[1] * w[2] - u[2] * w[1],
+        u[2] * w[0] - u[0] * w[2],
+        u[0] * w[1] - u[1] * w[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn point(p: [f32; 3]) -> [f64; 3] {
+    p.map(f64::from)
+}
+
+/// Would every triangle of `mesh` at vertex `o` (`star`) keep its side when `o` moves
+/// to `position`?
+fn moves_unfolded(mesh: &SurfaceMesh, star: &VertexTriangles, o: u32, position: [f32; 3]) -> bool {
+    star.of(o).iter().all(|&t| {
+        let corners = mesh.triangles[t as usize];
+        let before = corners.map(|w| point(mesh.positions[w as usize]));
+        let after = corners.map(|w| {
+            if w == o {
+                point(position)
+            } else {
+                point(mesh.positions[w as usize])
+            }
+        });
+        dot(
+            normal(before[0], before[1], before[2]),
+            normal(after[0], after[1], after[2]),
+        ) > 0.0
+    })
+}
+
+/// Where a node whose input position `p` would turn the split triangle over goes on
+/// the outline edge `b a` instead: `p`'s nearest point there, kept off both ends so
+/// that neither half is empty.
+fn on_the_edge(b: [f64; 3], a: [f64; 3], p: [f64; 3]) -> [f32; 3] {
+    let e: [f64; 3] = std::array::from_fn(|i| a[i] - b[i]);
+    let len2 = dot(e, e);
+    let t = if len2 > 0.0 {
+        let bp: [f64; 3] = std::array::from_fn(|i| p[i] - b[i]);
+        (dot(bp, e) / len2).clamp(EDGE_END_MARGIN, 1.0 - EDGE_END_MARGIN)
+    } else {
+        0.5
+    };
+    std::array::from_fn(|i| (b[i] + t * e[i]) as f32)
+}
+
+/// The points tried for a node one surface put on an edge and its copies, as parts of
+/// the way from the input's place to that edge: the nearest where no copy folds.
+const TOWARDS_THE_EDGE: [f64; 5] = [0.125, 0.25, 0.5, 0.75, 1.0];
+
+/// How near either end of the edge it splits a node put on the edge may go, as a part
+/// of its length.
+const EDGE_END_MARGIN: f64 = 0.05;
 
 /// Puts input outline vertex `v` back into `output`: splits the output's outline
 /// edge between the nearest vertices along the input's outline on either side that
 /// the output has (`kept`: input vertex to output vertex), found in `edges` (the
 /// output's outline edges and their triangles, kept up to date), and returns the new
-/// vertex; `None` where the output has no such edge, or the split would turn a
-/// triangle over.
+/// vertex and where it went. That is at `agreed` if given (where another surface put
+/// the node on its edge), else at the input's place, else, where the split would turn
+/// the triangle over there, on the edge itself ([`on_the_edge`]); `None` where the
+/// output has no such edge, or the split would turn the triangle over at `agreed`.
 fn put_back(
     input: &SurfaceMesh,
     outline: &Outline,
     output: &mut Decimated,
-    kept: &HashMap<u32, u32>,
-    edges: &mut HashMap<(u32, u32), u32>,
+    (kept, edges): (&HashMap<u32, u32>, &mut EdgeTriangles),
     v: u32,
-) -> Option<u32> {
+    agreed: Option<[f32; 3]>,
+) -> Option<(u32, [f32; 3])> {
     let along = |step: &[u32]| {
         let mut w = v;
         for _ in 0..input.vertex_count() {
@@ -261,27 +398,24 @@ fn put_back(
     let tri = *mesh.triangles.get(t)?;
     let k = (0..3).find(|&k| tri[k] == before && tri[(k + 1) % 3] == after)?;
     let third = tri[(k + 2) % 3];
-    let point = |p: [f32; 3]| p.map(f64::from);
-    let normal = |a: [f64; 3], b: [f64; 3], c: [f64; 3]| {
-        let (u, w): ([f64; 3], [f64; 3]) = (
-            std::array::from_fn(|i| b[i] - a[i]),
-            std::array::from_fn(|i| c[i] - a[i]),
-        );
-        [
-            u[1] * w[2] - u[2] * w[1],
-            u[2] * w[0] - u[0] * w[2],
-            u[0] * w[1] - u[1] * w[0],
-        ]
-    };
-    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let [b, a, c] = [before, after, third].map(|w| point(mesh.positions[w as usize]));
-    let p = point(input.positions[v as usize]);
     let whole = normal(b, a, c);
-    if dot(normal(b, p, c), whole) <= 0.0 || dot(normal(p, a, c), whole) <= 0.0 {
-        return None;
+    let folds = |p: [f32; 3]| {
+        let p = point(p);
+        dot(normal(b, p, c), whole) <= 0.0 || dot(normal(p, a, c), whole) <= 0.0
+    };
+    let mut position = agreed.unwrap_or(input.positions[v as usize]);
+    if folds(position) {
+        if agreed.is_some() {
+            return None;
+        }
+        position = on_the_edge(b, a, point(position));
+        if folds(position) {
+            return None;
+        }
     }
     let new = mesh.vertex_count() as u32;
-    mesh.positions.push(input.positions[v as usize]);
+    mesh.positions.push(position);
     if let Some(&uv) = input.texcoords.get(v as usize) {
         mesh.texcoords.push(uv);
     }
@@ -294,11 +428,19 @@ fn put_back(
     let mut second = tri;
     second[k] = new;
     mesh.triangles[t] = first;
+    let second_index = mesh.triangles.len() as u32;
     edges.remove(&(before, after));
     edges.insert((before, new), t as u32);
-    edges.insert((new, after), mesh.triangles.len() as u32);
+    edges.insert((new, after), second_index);
+    // The triangle's edge from `after` to `third` went to the second half; it may be
+    // an outline edge too.
+    if let Some(owner) = edges.get_mut(&(after, third))
+        && *owner == t as u32
+    {
+        *owner = second_index;
+    }
     mesh.triangles.push(second);
     output.source.push(v);
     output.home.push(outline.triangle[v as usize]);
-    Some(new)
+    Some((new, position))
 }

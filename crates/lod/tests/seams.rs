@@ -10,7 +10,7 @@ use std::path::Path;
 
 use common::{edge_uses, faulted_grid, shared_data};
 use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
-use strata_lod::{Options, decimate, decimate_chosen, stitch};
+use strata_lod::{Decimated, Options, decimate, decimate_chosen, stitch};
 
 /// A position, bit for bit.
 type Key = [u32; 3];
@@ -95,6 +95,68 @@ fn open_seam_edges(mesh: &SurfaceMesh, seams: &[[[f64; 3]; 2]], tolerance: f64) 
 }
 
 /// How near two places must be to count as one: a millionth of `mesh`'s extent.
+/// The nearest point to `p` on segment `a b`.
+fn nearest_on_segment(p: [f64; 3], [a, b]: [[f64; 3]; 2]) -> [f64; 3] {
+    let ab: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
+    let ap: [f64; 3] = std::array::from_fn(|k| p[k] - a[k]);
+    let len2: f64 = ab.iter().map(|c| c * c).sum();
+    let t = if len2 > 0.0 {
+        (ab.iter().zip(&ap).map(|(x, y)| x * y).sum::<f64>() / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    std::array::from_fn(|k| a[k] + t * ab[k])
+}
+
+/// The widths of the cracks between `outputs` where their `inputs` meet: at the middle
+/// of each outline edge that two inputs share (bit for bit), the distance between the
+/// nearest points of the two outputs' outlines. Zero where the outputs' outlines run
+/// along the same polyline, wherever the stitch put its nodes.
+fn crack_widths(inputs: &[SurfaceMesh], outputs: &[&SurfaceMesh]) -> Vec<f64> {
+    let point = |m: &SurfaceMesh, v: u32| m.positions[v as usize].map(f64::from);
+    let mut owners: HashMap<(Key, Key), Vec<usize>> = HashMap::new();
+    for (s, input) in inputs.iter().enumerate() {
+        for (a, b) in boundary_edges(input) {
+            let (ka, kb) = (key(input, a), key(input, b));
+            let list = owners.entry((ka.min(kb), ka.max(kb))).or_default();
+            if !list.contains(&s) {
+                list.push(s);
+            }
+        }
+    }
+    let outlines: Vec<Vec<[[f64; 3]; 2]>> = outputs
+        .iter()
+        .map(|m| {
+            boundary_edges(m)
+                .into_iter()
+                .map(|(a, b)| [point(m, a), point(m, b)])
+                .collect()
+        })
+        .collect();
+    let nearest = |s: usize, p: [f64; 3]| {
+        outlines[s]
+            .iter()
+            .map(|&e| nearest_on_segment(p, e))
+            .min_by(|x, y| distance(*x, p).total_cmp(&distance(*y, p)))
+    };
+    owners
+        .into_iter()
+        .filter(|(_, list)| list.len() == 2)
+        .filter_map(|((ka, kb), list)| {
+            let [a, b] = [ka, kb].map(|k| k.map(|c| f64::from(f32::from_bits(c))));
+            let middle = std::array::from_fn(|k| 0.5 * (a[k] + b[k]));
+            Some(distance(
+                nearest(list[0], middle)?,
+                nearest(list[1], middle)?,
+            ))
+        })
+        .collect()
+}
+
+fn distance(p: [f64; 3], q: [f64; 3]) -> f64 {
+    (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
+}
+
 fn tolerance(mesh: &SurfaceMesh) -> f64 {
     let extent = mesh
         .positions
@@ -154,28 +216,36 @@ fn check(name: &str, walls: &SurfaceMesh, percent: f64) {
 
 /// The top of `grid`'s first layer, the bottom of its last and its side walls, as
 /// `strata render --sides` draws them, decimated to `percent` each: where their
-/// outlines meet, they leave slivers open until stitched.
-fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_open: usize) {
+/// outlines meet, they leave cracks open until stitched. At most `most_cracks` of
+/// the shared outline's edges may stay cracked.
+fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_cracks: usize) {
     let (nz, origin) = (grid.dims().nz, grid.display_origin());
     let surfaces = [
         layer_surface(grid, 0, Face::Top, None, origin).expect("top"),
         layer_surface(grid, nz - 1, Face::Bottom, None, origin).expect("bottom"),
         sides(grid, None),
     ];
-    let appended = |meshes: &mut dyn Iterator<Item = &SurfaceMesh>| {
-        let mut all = SurfaceMesh::with_origin(origin);
-        meshes.for_each(|m| all.append(m));
-        all
-    };
-    let input = appended(&mut surfaces.iter());
-    let seams = seams(&input);
+    let mut input = SurfaceMesh::with_origin(origin);
+    surfaces.iter().for_each(|m| input.append(m));
     let tolerance = tolerance(&input);
-    let (edges, open) = open_seam_edges(&input, &seams, tolerance);
+    // Crack widths over `tolerance`: how many, of how many shared edges, the widest.
+    let widths = |meshes: &[&SurfaceMesh]| {
+        let widths = crack_widths(&surfaces, meshes);
+        let open = widths.iter().filter(|&&w| w > tolerance).count();
+        (
+            open,
+            widths.len(),
+            widths.iter().copied().fold(0.0, f64::max),
+        )
+    };
+    let cracks =
+        |outputs: &[Decimated]| widths(&outputs.iter().map(|d| &d.mesh).collect::<Vec<_>>());
+    let (open, edges, _) = widths(&surfaces.iter().collect::<Vec<_>>());
     assert!(
         edges > 100 && open == 0,
-        "{name}: {edges} seam edges, {open} open before decimating"
+        "{name}: {edges} shared outline edges, {open} cracked before decimating"
     );
-    let mut outputs: Vec<_> = surfaces
+    let mut outputs: Vec<Decimated> = surfaces
         .iter()
         .map(|m| {
             decimate_chosen(m, &options(m, percent))
@@ -183,8 +253,8 @@ fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_open: u
                 .decimated
         })
         .collect();
-    let before = appended(&mut outputs.iter().map(|d| &d.mesh));
-    let (_, open_before) = open_seam_edges(&before, &seams, tolerance);
+    let before = cracks(&outputs);
+    let unstitched: usize = outputs.iter().map(|d| d.mesh.triangle_count()).sum();
     let inputs: Vec<&SurfaceMesh> = surfaces.iter().collect();
     let mut again = outputs.clone();
     let stitched = stitch(&inputs, &mut outputs.iter_mut().collect::<Vec<_>>());
@@ -196,26 +266,28 @@ fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_open: u
     for (a, b) in outputs.iter().zip(&again) {
         assert!(a.mesh == b.mesh && a.source == b.source && a.home == b.home);
     }
-    let after = appended(&mut outputs.iter().map(|d| &d.mesh));
-    let (left, open) = open_seam_edges(&after, &seams, tolerance);
+    let after = cracks(&outputs);
+    let triangles =
+        |outputs: &[Decimated]| -> usize { outputs.iter().map(|d| d.mesh.triangle_count()).sum() };
     eprintln!(
-        "{name}: {} -> {} -> {} triangles, {open_before} seam edges open, {stitched:?}, \
-         then {open} of {left}",
+        "{name}: {} -> {} -> {} triangles, {stitched:?}; cracks (count, of, widest) \
+         {before:?} -> {after:?}",
         input.triangle_count(),
-        before.triangle_count(),
-        after.triangle_count(),
+        unstitched,
+        triangles(&outputs),
     );
-    // A node whose split would fold a triangle stays out: `most_open` seam edges may
-    // stay open (the faulted model's walls have two such nodes and one open edge).
     assert!(stitched.inserted > 0, "{name}: {stitched:?}");
     assert!(
-        open <= most_open && open * 10 <= open_before,
-        "{name}: {open} of {left} seam edges open, {open_before} before stitching"
+        after.0 <= most_cracks && after.0 * 10 <= before.0,
+        "{name}: {} of {} shared outline edges cracked, {} before stitching",
+        after.0,
+        after.1,
+        before.0
     );
     assert!(
-        (after.triangle_count() as f64) < 0.5 * input.triangle_count() as f64,
+        (triangles(&outputs) as f64) < 0.5 * input.triangle_count() as f64,
         "{name}: {} triangles",
-        after.triangle_count()
+        triangles(&outputs)
     );
 }
 
@@ -226,7 +298,7 @@ fn the_samples_tops_and_walls_meet_once_stitched() {
 
 #[test]
 fn a_faulted_models_tops_and_walls_meet_once_stitched() {
-    check_stitched("faulted", &faulted_grid(40, 30), 10.0, 1);
+    check_stitched("faulted", &faulted_grid(40, 30), 10.0, 0);
 }
 
 #[test]
@@ -254,5 +326,27 @@ fn real_models_side_walls_stay_closed() {
         };
         let grid = strata_grid::open_with(&data.join(file), &options).expect("a shared model");
         check(file, &sides(&grid, None), 10.0);
+    }
+}
+
+#[test]
+fn real_models_tops_and_walls_meet_once_stitched() {
+    let Some(data) = shared_data("real_models_tops_and_walls_meet_once_stitched") else {
+        return;
+    };
+    for file in [
+        "reek/REEK.EGRID",
+        "emerald/eme_small_w_hole_grid_params.grdecl",
+    ] {
+        let options = ReadOptions {
+            grid_only: true,
+            ..ReadOptions::default()
+        };
+        let grid = strata_grid::open_with(&data.join(file), &options).expect("a shared model");
+        // Where a node can go neither where the input has it nor anywhere towards the
+        // edge it splits without folding a triangle, a crack stays: Reek's and
+        // emerald's layers pinch out next to their walls.
+        let most = if file.starts_with("reek") { 4 } else { 27 };
+        check_stitched(file, &grid, 10.0, most);
     }
 }
