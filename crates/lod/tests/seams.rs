@@ -45,19 +45,8 @@ fn seams(mesh: &SurfaceMesh) -> Vec<[[f64; 3]; 2]> {
         .collect()
 }
 
-fn distance_to_segment(p: [f64; 3], [a, b]: [[f64; 3]; 2]) -> f64 {
-    let ab: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
-    let ap: [f64; 3] = std::array::from_fn(|k| p[k] - a[k]);
-    let len2: f64 = ab.iter().map(|c| c * c).sum();
-    let t = if len2 > 0.0 {
-        (ab.iter().zip(&ap).map(|(x, y)| x * y).sum::<f64>() / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (0..3)
-        .map(|k| (ap[k] - t * ab[k]).powi(2))
-        .sum::<f64>()
-        .sqrt()
+fn distance_to_segment(p: [f64; 3], segment: [[f64; 3]; 2]) -> f64 {
+    distance(p, nearest_on_segment(p, segment))
 }
 
 /// The boundary edges of `mesh` that lie on `seams` (both ends and the middle within
@@ -311,38 +300,38 @@ fn a_faulted_models_side_walls_stay_closed() {
     check("faulted", &sides(&faulted_grid(40, 30), Some("PORO")), 10.0);
 }
 
-#[test]
-fn real_models_side_walls_stay_closed() {
-    let Some(data) = shared_data("real_models_side_walls_stay_closed") else {
-        return;
+/// The shared real models with walls on pinched-out layers and holes, read grid only,
+/// each with its file name; none (said so) without the shared data.
+fn real_models(test: &str) -> Vec<(&'static str, CornerPointGrid)> {
+    let Some(data) = shared_data(test) else {
+        return Vec::new();
     };
-    for file in [
+    let options = ReadOptions {
+        grid_only: true,
+        ..ReadOptions::default()
+    };
+    [
         "reek/REEK.EGRID",
         "emerald/eme_small_w_hole_grid_params.grdecl",
-    ] {
-        let options = ReadOptions {
-            grid_only: true,
-            ..ReadOptions::default()
-        };
+    ]
+    .into_iter()
+    .map(|file| {
         let grid = strata_grid::open_with(&data.join(file), &options).expect("a shared model");
+        (file, grid)
+    })
+    .collect()
+}
+
+#[test]
+fn real_models_side_walls_stay_closed() {
+    for (file, grid) in real_models("real_models_side_walls_stay_closed") {
         check(file, &sides(&grid, None), 10.0);
     }
 }
 
 #[test]
 fn real_models_tops_and_walls_meet_once_stitched() {
-    let Some(data) = shared_data("real_models_tops_and_walls_meet_once_stitched") else {
-        return;
-    };
-    for file in [
-        "reek/REEK.EGRID",
-        "emerald/eme_small_w_hole_grid_params.grdecl",
-    ] {
-        let options = ReadOptions {
-            grid_only: true,
-            ..ReadOptions::default()
-        };
-        let grid = strata_grid::open_with(&data.join(file), &options).expect("a shared model");
+    for (file, grid) in real_models("real_models_tops_and_walls_meet_once_stitched") {
         // Where a node can go neither where the input has it nor anywhere towards the
         // edge it splits without folding a triangle, a crack stays: Reek's and
         // emerald's layers pinch out next to their walls.
