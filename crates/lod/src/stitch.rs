@@ -16,6 +16,7 @@ use std::collections::HashMap;
 
 use strata_grid::SurfaceMesh;
 
+use crate::decimate::{cross3, dot3, sub3p};
 use crate::reference::{NONE, VertexTriangles, boundary_edges, triangle_adjacency};
 use crate::{Decimated, NEW};
 
@@ -301,19 +302,7 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
 
 /// The normal of triangle `a b c` (twice its area).
 fn normal(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> [f64; 3] {
-    let (u, w): ([f64; 3], [f64; 3]) = (
-        std::array::from_fn(|i| b[i] - a[i]),
-        std::array::from_fn(|i| c[i] - a[i]),
-    );
-    [
-        u[1] * w[2] - u[2] * w[1],
-        u[2] * w[0] - u[0] * w[2],
-        u[0] * w[1] - u[1] * w[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    cross3(sub3p(b, a), sub3p(c, a))
 }
 
 fn point(p: [f32; 3]) -> [f64; 3] {
@@ -333,7 +322,7 @@ fn moves_unfolded(mesh: &SurfaceMesh, star: &VertexTriangles, o: u32, position: 
                 point(mesh.positions[w as usize])
             }
         });
-        dot(
+        dot3(
             normal(before[0], before[1], before[2]),
             normal(after[0], after[1], after[2]),
         ) > 0.0
@@ -344,11 +333,11 @@ fn moves_unfolded(mesh: &SurfaceMesh, star: &VertexTriangles, o: u32, position: 
 /// the outline edge `b a` instead: `p`'s nearest point there, kept off both ends so
 /// that neither half is empty.
 fn on_the_edge(b: [f64; 3], a: [f64; 3], p: [f64; 3]) -> [f32; 3] {
-    let e: [f64; 3] = std::array::from_fn(|i| a[i] - b[i]);
-    let len2 = dot(e, e);
+    let e = sub3p(a, b);
+    let len2 = dot3(e, e);
     let t = if len2 > 0.0 {
-        let bp: [f64; 3] = std::array::from_fn(|i| p[i] - b[i]);
-        (dot(bp, e) / len2).clamp(EDGE_END_MARGIN, 1.0 - EDGE_END_MARGIN)
+        let bp = sub3p(p, b);
+        (dot3(bp, e) / len2).clamp(EDGE_END_MARGIN, 1.0 - EDGE_END_MARGIN)
     } else {
         0.5
     };
@@ -402,7 +391,7 @@ fn put_back(
     let whole = normal(b, a, c);
     let folds = |p: [f32; 3]| {
         let p = point(p);
-        dot(normal(b, p, c), whole) <= 0.0 || dot(normal(p, a, c), whole) <= 0.0
+        dot3(normal(b, p, c), whole) <= 0.0 || dot3(normal(p, a, c), whole) <= 0.0
     };
     let mut position = agreed.unwrap_or(input.positions[v as usize]);
     if folds(position) {
