@@ -98,9 +98,10 @@ fn nearest_on_segment(p: [f64; 3], [a, b]: [[f64; 3]; 2]) -> [f64; 3] {
 }
 
 /// The widths of the cracks between `outputs` where their `inputs` meet: at the middle
-/// of each outline edge that two inputs share (bit for bit), the distance between the
-/// nearest points of the two outputs' outlines. Zero where the outputs' outlines run
-/// along the same polyline, wherever the stitch put its nodes.
+/// of each outline edge that two inputs share (bit for bit), how far the outline of
+/// either output nearest there lies off the other's, the nearer of the two. Zero where
+/// the outputs' outlines run along the same polyline, wherever the stitch put its
+/// nodes.
 fn crack_widths(inputs: &[SurfaceMesh], outputs: &[&SurfaceMesh]) -> Vec<f64> {
     let point = |m: &SurfaceMesh, v: u32| m.positions[v as usize].map(f64::from);
     let mut owners: HashMap<(Key, Key), Vec<usize>> = HashMap::new();
@@ -134,10 +135,15 @@ fn crack_widths(inputs: &[SurfaceMesh], outputs: &[&SurfaceMesh]) -> Vec<f64> {
         .filter_map(|((ka, kb), list)| {
             let [a, b] = [ka, kb].map(|k| k.map(|c| f64::from(f32::from_bits(c))));
             let middle = std::array::from_fn(|k| 0.5 * (a[k] + b[k]));
-            Some(distance(
-                nearest(list[0], middle)?,
-                nearest(list[1], middle)?,
-            ))
+            // From each output's outline point nearest the middle to the other's
+            // outline: where the two meet, one of these lies on both. Not between the
+            // two nearest points: another outline of the same surface close by (a
+            // wall's deeper layers across a fault) can be nearer the middle than the
+            // one that meets the other surface there.
+            let (on_first, on_second) = (nearest(list[0], middle)?, nearest(list[1], middle)?);
+            let first_off = distance(on_first, nearest(list[1], on_first)?);
+            let second_off = distance(on_second, nearest(list[0], on_second)?);
+            Some(first_off.min(second_off))
         })
         .collect()
 }
@@ -333,9 +339,9 @@ fn real_models_side_walls_stay_closed() {
 fn real_models_tops_and_walls_meet_once_stitched() {
     for (file, grid) in real_models("real_models_tops_and_walls_meet_once_stitched") {
         // Where a node can go neither where the input has it nor anywhere towards the
-        // edge it splits without folding a triangle, a crack stays: Reek's and
-        // emerald's layers pinch out next to their walls.
-        let most = if file.starts_with("reek") { 4 } else { 27 };
+        // edge it splits without folding a triangle, a crack stays: emerald's layers
+        // pinch out next to their walls.
+        let most = if file.starts_with("reek") { 0 } else { 7 };
         check_stitched(file, &grid, 10.0, most);
     }
 }
