@@ -673,8 +673,16 @@ pub fn decimate_scene(
     if stitched.inserted + stitched.skipped > 0 {
         eprintln!(
             "stitched the outlines the surfaces share: {} nodes one of them kept put back \
-             into the others (a triangle each){}{}",
+             into the others (a triangle each){}{}{}",
             stitched.inserted,
+            if stitched.corners > 0 {
+                format!(
+                    ", {} of them as a triangle of their own where a corner was cut off",
+                    stitched.corners
+                )
+            } else {
+                String::new()
+            },
             if stitched.on_edge > 0 {
                 format!(
                     ", {} of them on the edge they split, where their own place would fold a \
@@ -686,8 +694,8 @@ pub fn decimate_scene(
             },
             if stitched.skipped > 0 {
                 format!(
-                    ", {} left out (where a triangle would fold, or the outline left the \
-                     input's)",
+                    ", {} left out or short of their place (where a triangle would fold, or \
+                     the outline left the input's)",
                     stitched.skipped
                 )
             } else {

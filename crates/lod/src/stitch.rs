@@ -7,17 +7,18 @@
 //! background shows. [`stitch`] makes every node of such a shared outline that one
 //! surface kept a node of the others too, by splitting their outline edge at it, and
 //! puts all of them back where the input had them (a fit or lift may have moved one
-//! side only). Where the input's place would turn the split triangle over (a wall
-//! thinning to nothing under an outline the decimation straightened), the node goes
-//! on the edge it splits instead, and its copies in the other surfaces follow it
-//! there.
+//! side only). Where the input's place would turn the split triangle over, a node
+//! beyond the edge (a corner the decimation cut off) goes back there as a triangle of
+//! its own on the edge; one inside (a wall thinning to nothing under an outline the
+//! decimation straightened) goes on the edge it splits instead, and its copies in the
+//! other surfaces follow it there.
 
 use std::collections::HashMap;
 
 use strata_grid::SurfaceMesh;
 
 use crate::decimate::{cross3, dot3, sub3p};
-use crate::reference::{NONE, VertexTriangles, boundary_edges, triangle_adjacency};
+use crate::reference::{NONE, VertexTriangles, boundary_edges, cross2, triangle_adjacency};
 use crate::{Decimated, NEW};
 
 /// What [`stitch`] did.
@@ -25,13 +26,19 @@ use crate::{Decimated, NEW};
 pub struct Stitched {
     /// Outline nodes put back into a surface that had dropped them, one triangle each.
     pub inserted: usize,
+    /// Of those, the nodes beyond the outline edge between their neighbours, where the
+    /// decimation cut their corner off and splitting the edge's triangle would turn
+    /// it over: each went back at the input's place as a triangle of its own on that
+    /// edge.
+    pub corners: usize,
     /// Of those, the nodes put on the outline edge they split rather than where the
     /// input has them, which would have turned a triangle over; their copies in the
     /// other surfaces moved there too.
     pub on_edge: usize,
     /// Shared outline nodes that could not be put back (the surface's outline there
     /// no longer runs along the input's, or the split would fold a triangle even on
-    /// the edge), or whose copy could not follow one put on an edge without folding.
+    /// the edge), or whose copy could not follow one put on an edge all the way
+    /// without folding (it goes as far as it can).
     pub skipped: usize,
 }
 
@@ -228,9 +235,10 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
                 v,
                 agreed,
             ) {
-                Some((o, position)) => {
+                Some((o, position, corner)) => {
                     present[s].insert(v, o);
                     stitched.inserted += 1;
+                    stitched.corners += usize::from(corner);
                     if position != own {
                         on_edge.insert(own.map(f32::to_bits), position);
                         stitched.on_edge += 1;
@@ -276,23 +284,32 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
                 .is_some_and(|star| moves_unfolded(&outputs[s].mesh, star, o, position))
         };
         let own = point(key.map(f32::from_bits));
-        let common = TOWARDS_THE_EDGE.iter().find_map(|&part| {
-            let position: [f32; 3] =
-                std::array::from_fn(|i| (own[i] + part * (f64::from(edge[i]) - own[i])) as f32);
-            copies
-                .iter()
-                .all(|&(s, _, o)| unfolded(s, o, position))
-                .then_some(position)
-        });
-        let moves: Vec<Option<[f32; 3]>> = copies
+        let towards = |step: usize| -> [f32; 3] {
+            let part = step as f64 / TOWARDS_THE_EDGE as f64;
+            std::array::from_fn(|i| (own[i] + part * (f64::from(edge[i]) - own[i])) as f32)
+        };
+        let common = (1..=TOWARDS_THE_EDGE)
+            .map(towards)
+            .find(|&position| copies.iter().all(|&(s, _, o)| unfolded(s, o, position)));
+        // Without one, each copy goes as far towards the edge as it can: the crack that
+        // stays is no wider than it must be.
+        let moves: Vec<Option<([f32; 3], bool)>> = copies
             .iter()
-            .map(|&(s, _, o)| common.or_else(|| unfolded(s, o, edge).then_some(edge)))
+            .map(|&(s, _, o)| {
+                common.map(|position| (position, true)).or_else(|| {
+                    (0..=TOWARDS_THE_EDGE)
+                        .rev()
+                        .map(|step| (towards(step), step == TOWARDS_THE_EDGE))
+                        .find(|&(position, _)| unfolded(s, o, position))
+                })
+            })
             .collect();
         for ((s, v, o), position) in copies.into_iter().zip(moves) {
-            let Some(position) = position else {
+            let Some((position, closed)) = position else {
                 stitched.skipped += 1;
                 continue;
             };
+            stitched.skipped += usize::from(!closed);
             outputs[s].mesh.positions[o as usize] = position;
             outputs[s].source[o as usize] = v;
         }
@@ -346,7 +363,7 @@ fn on_the_edge(b: [f64; 3], a: [f64; 3], p: [f64; 3]) -> [f32; 3] {
 
 /// The points tried for a node one surface put on an edge and its copies, as parts of
 /// the way from the input's place to that edge: the nearest where no copy folds.
-const TOWARDS_THE_EDGE: [f64; 5] = [0.125, 0.25, 0.5, 0.75, 1.0];
+const TOWARDS_THE_EDGE: usize = 16;
 
 /// How near either end of the edge it splits a node put on the edge may go, as a part
 /// of its length.
@@ -358,8 +375,10 @@ const EDGE_END_MARGIN: f64 = 0.05;
 /// output's outline edges and their triangles, kept up to date), and returns the new
 /// vertex and where it went. That is at `agreed` if given (where another surface put
 /// the node on its edge), else at the input's place, else, where the split would turn
-/// the triangle over there, on the edge itself ([`on_the_edge`]); `None` where the
-/// output has no such edge, or the split would turn the triangle over at `agreed`.
+/// the triangle over there, at the input's place as a triangle of its own on the
+/// edge when it lies beyond it (true in the result), else on the edge itself
+/// ([`on_the_edge`]); `None` where the output has no such edge, or the split would
+/// turn the triangle over at `agreed`.
 fn put_back(
     input: &SurfaceMesh,
     outline: &Outline,
@@ -367,7 +386,7 @@ fn put_back(
     (kept, edges): (&HashMap<u32, u32>, &mut EdgeTriangles),
     v: u32,
     agreed: Option<[f32; 3]>,
-) -> Option<(u32, [f32; 3])> {
+) -> Option<(u32, [f32; 3], bool)> {
     let along = |step: &[u32]| {
         let mut w = v;
         for _ in 0..input.vertex_count() {
@@ -394,42 +413,61 @@ fn put_back(
         dot3(normal(b, p, c), whole) <= 0.0 || dot3(normal(p, a, c), whole) <= 0.0
     };
     let mut position = agreed.unwrap_or(input.positions[v as usize]);
+    let uv = input.texcoords.get(v as usize).copied();
+    let mut ear = false;
     if folds(position) {
         if agreed.is_some() {
             return None;
         }
-        position = on_the_edge(b, a, point(position));
-        if folds(position) {
-            return None;
+        // Beyond the edge, where the decimation cut the corner at the node off: the
+        // corner goes back as a triangle of its own on the edge.
+        ear = uv.is_some_and(|uv| {
+            let texcoord = |w: u32| mesh.texcoords[w as usize].map(f64::from);
+            let (tb, ta, tc) = (texcoord(before), texcoord(after), texcoord(third));
+            let tn = uv.map(f64::from);
+            dot3(normal(a, b, point(position)), whole) > 0.0
+                && cross2(ta, tb, tn) * cross2(tb, ta, tc) > 0.0
+        });
+        if !ear {
+            position = on_the_edge(b, a, point(position));
+            if folds(position) {
+                return None;
+            }
         }
     }
     let new = mesh.vertex_count() as u32;
     mesh.positions.push(position);
-    if let Some(&uv) = input.texcoords.get(v as usize) {
+    if let Some(uv) = uv {
         mesh.texcoords.push(uv);
     }
     if !mesh.scalars.is_empty() {
         mesh.scalars
             .push(input.scalars.get(v as usize).copied().unwrap_or(f32::NAN));
     }
-    let mut first = tri;
-    first[(k + 1) % 3] = new;
-    let mut second = tri;
-    second[k] = new;
-    mesh.triangles[t] = first;
-    let second_index = mesh.triangles.len() as u32;
+    let added = mesh.triangles.len() as u32;
     edges.remove(&(before, after));
-    edges.insert((before, new), t as u32);
-    edges.insert((new, after), second_index);
-    // The triangle's edge from `after` to `third` went to the second half; it may be
-    // an outline edge too.
-    if let Some(owner) = edges.get_mut(&(after, third))
-        && *owner == t as u32
-    {
-        *owner = second_index;
+    if ear {
+        mesh.triangles.push([after, before, new]);
+        edges.insert((before, new), added);
+        edges.insert((new, after), added);
+    } else {
+        let mut first = tri;
+        first[(k + 1) % 3] = new;
+        let mut second = tri;
+        second[k] = new;
+        mesh.triangles[t] = first;
+        mesh.triangles.push(second);
+        edges.insert((before, new), t as u32);
+        edges.insert((new, after), added);
+        // The triangle's edge from `after` to `third` went to the second half; it may
+        // be an outline edge too.
+        if let Some(owner) = edges.get_mut(&(after, third))
+            && *owner == t as u32
+        {
+            *owner = added;
+        }
     }
-    mesh.triangles.push(second);
     output.source.push(v);
     output.home.push(outline.triangle[v as usize]);
-    Some((new, position))
+    Some((new, position, ear))
 }
