@@ -673,7 +673,7 @@ pub fn decimate_scene(
     if stitched.inserted + stitched.skipped > 0 {
         eprintln!(
             "stitched the outlines the surfaces share: {} nodes one of them kept put back \
-             into the others (a triangle each){}{}{}",
+             into the others (a triangle each){}{}{}{}",
             stitched.inserted,
             if stitched.corners > 0 {
                 format!(
@@ -688,6 +688,15 @@ pub fn decimate_scene(
                     ", {} of them on the edge they split, where their own place would fold a \
                      triangle (their copies moved there too)",
                     stitched.on_edge
+                )
+            } else {
+                String::new()
+            },
+            if stitched.texture_on_edge > 0 {
+                format!(
+                    ", {} with the edge's texture point, where their own would turn a \
+                     triangle over in texture space",
+                    stitched.texture_on_edge
                 )
             } else {
                 String::new()

@@ -7,11 +7,13 @@
 //! background shows. [`stitch`] makes every node of such a shared outline that one
 //! surface kept a node of the others too, by splitting their outline edge at it, and
 //! puts all of them back where the input had them (a fit or lift may have moved one
-//! side only). Where the input's place would turn the split triangle over, a node
-//! beyond the edge (a corner the decimation cut off) goes back there as a triangle of
-//! its own on the edge; one inside (a wall thinning to nothing under an outline the
-//! decimation straightened) goes on the edge it splits instead, and its copies in the
-//! other surfaces follow it there.
+//! side only). Where the input's place would turn a half of the split triangle over,
+//! a node beyond the edge (a corner the decimation cut off) goes back there as a
+//! triangle of its own on the edge; one inside (a wall thinning to nothing under an
+//! outline the decimation straightened) goes on the edge it splits instead, and its
+//! copies in the other surfaces follow it there. No half is turned over in texture
+//! space either, where the grid lines are drawn from: a node whose own texture point
+//! would do that takes the one on the edge.
 
 use std::collections::HashMap;
 
@@ -27,14 +29,18 @@ pub struct Stitched {
     /// Outline nodes put back into a surface that had dropped them, one triangle each.
     pub inserted: usize,
     /// Of those, the nodes beyond the outline edge between their neighbours, where the
-    /// decimation cut their corner off and splitting the edge's triangle would turn
-    /// it over: each went back at the input's place as a triangle of its own on that
-    /// edge.
+    /// decimation cut their corner off and splitting the edge's triangle would turn a
+    /// half of it over (in space or in texture space): each went back at the input's
+    /// place as a triangle of its own on that edge.
     pub corners: usize,
     /// Of those, the nodes put on the outline edge they split rather than where the
     /// input has them, which would have turned a triangle over; their copies in the
     /// other surfaces moved there too.
     pub on_edge: usize,
+    /// Of those, the nodes whose own texture point would turn a half of the split
+    /// triangle over in texture space, which took the point on the edge's instead:
+    /// the grid lines bend a little near them.
+    pub texture_on_edge: usize,
     /// Shared outline nodes that could not be put back (the surface's outline there
     /// no longer runs along the input's, or the split would fold a triangle even on
     /// the edge), or whose copy could not follow one put on an edge all the way
@@ -235,10 +241,16 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
                 v,
                 agreed,
             ) {
-                Some((o, position, corner)) => {
+                Some(Put {
+                    vertex: o,
+                    position,
+                    corner,
+                    texture_on_edge,
+                }) => {
                     present[s].insert(v, o);
                     stitched.inserted += 1;
                     stitched.corners += usize::from(corner);
+                    stitched.texture_on_edge += usize::from(texture_on_edge);
                     if position != own {
                         on_edge.insert(own.map(f32::to_bits), position);
                         stitched.on_edge += 1;
@@ -369,16 +381,27 @@ const TOWARDS_THE_EDGE: usize = 16;
 /// of its length.
 const EDGE_END_MARGIN: f64 = 0.05;
 
+/// A node [`put_back`]: its vertex, where it went, and how.
+struct Put {
+    vertex: u32,
+    position: [f32; 3],
+    /// As a triangle of its own beyond the edge, not by splitting the edge's triangle.
+    corner: bool,
+    /// With the texture point on the edge, not its own.
+    texture_on_edge: bool,
+}
+
 /// Puts input outline vertex `v` back into `output`: splits the output's outline
 /// edge between the nearest vertices along the input's outline on either side that
 /// the output has (`kept`: input vertex to output vertex), found in `edges` (the
-/// output's outline edges and their triangles, kept up to date), and returns the new
-/// vertex and where it went. That is at `agreed` if given (where another surface put
-/// the node on its edge), else at the input's place, else, where the split would turn
-/// the triangle over there, at the input's place as a triangle of its own on the
-/// edge when it lies beyond it (true in the result), else on the edge itself
-/// ([`on_the_edge`]); `None` where the output has no such edge, or the split would
-/// turn the triangle over at `agreed`.
+/// output's outline edges and their triangles, kept up to date). The node goes to
+/// `agreed` if given (where another surface put it on its edge), else to the input's
+/// place; where the split would turn a half of the triangle over there (in space or
+/// in texture space) and the node lies beyond the edge, it goes back there as a
+/// triangle of its own on the edge; else, where the split turns a half over in space,
+/// on the edge itself ([`on_the_edge`]), and where it turns one over in texture space
+/// only, with the texture point on the edge. `None` where the output has no such
+/// edge, or the split would turn a triangle over in space at `agreed` or on the edge.
 fn put_back(
     input: &SurfaceMesh,
     outline: &Outline,
@@ -386,7 +409,7 @@ fn put_back(
     (kept, edges): (&HashMap<u32, u32>, &mut EdgeTriangles),
     v: u32,
     agreed: Option<[f32; 3]>,
-) -> Option<(u32, [f32; 3], bool)> {
+) -> Option<Put> {
     let along = |step: &[u32]| {
         let mut w = v;
         for _ in 0..input.vertex_count() {
@@ -408,45 +431,61 @@ fn put_back(
     let third = tri[(k + 2) % 3];
     let [b, a, c] = [before, after, third].map(|w| point(mesh.positions[w as usize]));
     let whole = normal(b, a, c);
-    let folds = |p: [f32; 3]| {
+    let uv = *input.texcoords.get(v as usize)?;
+    let [tb, ta, tc] = [before, after, third].map(|w| mesh.texcoords[w as usize].map(f64::from));
+    let tn = uv.map(f64::from);
+    let whole_uv = cross2(tb, ta, tc);
+    // Both halves of the split keep the triangle's side, in space with the node at `p`
+    // and in texture space (where the grid lines are drawn from).
+    let split_uv = cross2(tb, tn, tc) * whole_uv > 0.0 && cross2(tn, ta, tc) * whole_uv > 0.0;
+    let splits_in_space = |p: [f32; 3]| {
         let p = point(p);
-        dot3(normal(b, p, c), whole) <= 0.0 || dot3(normal(p, a, c), whole) <= 0.0
+        dot3(normal(b, p, c), whole) > 0.0 && dot3(normal(p, a, c), whole) > 0.0
     };
-    let mut position = agreed.unwrap_or(input.positions[v as usize]);
-    let uv = input.texcoords.get(v as usize).copied();
-    let mut ear = false;
-    if folds(position) {
-        if agreed.is_some() {
+    let splits = |p: [f32; 3]| split_uv && splits_in_space(p);
+    // Beyond the edge, where the decimation cut the corner at the node off, the corner
+    // can go back as a triangle of its own on the edge.
+    let ear_fits = |p: [f32; 3]| {
+        dot3(normal(a, b, point(p)), whole) > 0.0 && cross2(ta, tb, tn) * whole_uv > 0.0
+    };
+    let own = agreed.unwrap_or(input.positions[v as usize]);
+    let (position, corner) = if splits(own) {
+        (own, false)
+    } else if ear_fits(own) {
+        (own, true)
+    } else if splits_in_space(own) {
+        (own, false)
+    } else {
+        let on_edge = on_the_edge(b, a, point(own));
+        if agreed.is_some() || !splits_in_space(on_edge) {
             return None;
         }
-        // Beyond the edge, where the decimation cut the corner at the node off: the
-        // corner goes back as a triangle of its own on the edge.
-        ear = uv.is_some_and(|uv| {
-            let texcoord = |w: u32| mesh.texcoords[w as usize].map(f64::from);
-            let (tb, ta, tc) = (texcoord(before), texcoord(after), texcoord(third));
-            let tn = uv.map(f64::from);
-            dot3(normal(a, b, point(position)), whole) > 0.0
-                && cross2(ta, tb, tn) * cross2(tb, ta, tc) > 0.0
-        });
-        if !ear {
-            position = on_the_edge(b, a, point(position));
-            if folds(position) {
-                return None;
-            }
-        }
-    }
+        (on_edge, false)
+    };
+    // A split that would turn a half over in texture space takes the texture point on
+    // the edge instead: the grid lines near the node bend (by up to 0.9 of a cell on
+    // emerald's), none is drawn mirrored.
+    let texture_on_edge = !corner && !split_uv;
+    let uv = if !texture_on_edge {
+        uv
+    } else {
+        let [u, w, _] = on_the_edge(
+            [tb[0], tb[1], 0.0],
+            [ta[0], ta[1], 0.0],
+            [tn[0], tn[1], 0.0],
+        );
+        [u, w]
+    };
     let new = mesh.vertex_count() as u32;
     mesh.positions.push(position);
-    if let Some(uv) = uv {
-        mesh.texcoords.push(uv);
-    }
+    mesh.texcoords.push(uv);
     if !mesh.scalars.is_empty() {
         mesh.scalars
             .push(input.scalars.get(v as usize).copied().unwrap_or(f32::NAN));
     }
     let added = mesh.triangles.len() as u32;
     edges.remove(&(before, after));
-    if ear {
+    if corner {
         mesh.triangles.push([after, before, new]);
         edges.insert((before, new), added);
         edges.insert((new, after), added);
@@ -469,5 +508,10 @@ fn put_back(
     }
     output.source.push(v);
     output.home.push(outline.triangle[v as usize]);
-    Some((new, position, ear))
+    Some(Put {
+        vertex: new,
+        position,
+        corner,
+        texture_on_edge,
+    })
 }

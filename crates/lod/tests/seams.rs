@@ -148,6 +148,29 @@ fn crack_widths(inputs: &[SurfaceMesh], outputs: &[&SurfaceMesh]) -> Vec<f64> {
         .collect()
 }
 
+/// Edges of `mesh` between two triangles of opposite orientation in texture space: a
+/// triangle turned over in the drawn grid.
+fn texture_folds(mesh: &SurfaceMesh) -> usize {
+    let orientation = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
+        ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])).signum()
+    };
+    let mut sides: HashMap<(u32, u32), Vec<f64>> = HashMap::new();
+    for t in &mesh.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            sides
+                .entry((a.min(b), a.max(b)))
+                .or_default()
+                .push(orientation(t));
+        }
+    }
+    sides
+        .values()
+        .filter(|s| s.len() == 2 && s[0] != s[1])
+        .count()
+}
+
 fn distance(p: [f64; 3], q: [f64; 3]) -> f64 {
     (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
 }
@@ -249,6 +272,9 @@ fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_cracks:
         })
         .collect();
     let before = cracks(&outputs);
+    let folds =
+        |outputs: &[Decimated]| -> usize { outputs.iter().map(|d| texture_folds(&d.mesh)).sum() };
+    let folds_before = folds(&outputs);
     let unstitched: usize = outputs.iter().map(|d| d.mesh.triangle_count()).sum();
     let inputs: Vec<&SurfaceMesh> = surfaces.iter().collect();
     let mut again = outputs.clone();
@@ -272,6 +298,11 @@ fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_cracks:
         triangles(&outputs),
     );
     assert!(stitched.inserted > 0, "{name}: {stitched:?}");
+    assert!(
+        folds(&outputs) <= folds_before,
+        "{name}: {} triangles turned over in texture space by stitching, {folds_before} before",
+        folds(&outputs)
+    );
     assert!(
         after.0 <= most_cracks && after.0 * 10 <= before.0,
         "{name}: {} of {} shared outline edges cracked, {} before stitching",
