@@ -358,15 +358,15 @@ fn moves_unfolded(mesh: &SurfaceMesh, star: &VertexTriangles, o: u32, position: 
     })
 }
 
-/// Where a node whose input position `p` would turn the split triangle over goes on
-/// the outline edge `b a` instead: `p`'s nearest point there, kept off both ends so
-/// that neither half is empty.
-fn on_the_edge(b: [f64; 3], a: [f64; 3], p: [f64; 3]) -> [f32; 3] {
-    let e = sub3p(a, b);
-    let len2 = dot3(e, e);
+/// Where a node whose input position (or texture point) `p` would turn a half of the
+/// split triangle over goes on the outline edge `b a` instead: `p`'s nearest point
+/// there, kept off both ends so that neither half is empty.
+fn on_the_edge<const N: usize>(b: [f64; N], a: [f64; N], p: [f64; N]) -> [f32; N] {
+    let e: [f64; N] = std::array::from_fn(|i| a[i] - b[i]);
+    let len2: f64 = e.iter().map(|x| x * x).sum();
     let t = if len2 > 0.0 {
-        let bp = sub3p(p, b);
-        (dot3(bp, e) / len2).clamp(EDGE_END_MARGIN, 1.0 - EDGE_END_MARGIN)
+        let along: f64 = (0..N).map(|i| (p[i] - b[i]) * e[i]).sum();
+        (along / len2).clamp(EDGE_END_MARGIN, 1.0 - EDGE_END_MARGIN)
     } else {
         0.5
     };
@@ -466,15 +466,10 @@ fn put_back(
     // the edge instead: the grid lines near the node bend (by up to 0.9 of a cell on
     // emerald's), none is drawn mirrored.
     let texture_on_edge = !corner && !split_uv;
-    let uv = if !texture_on_edge {
-        uv
+    let uv = if texture_on_edge {
+        on_the_edge(tb, ta, tn)
     } else {
-        let [u, w, _] = on_the_edge(
-            [tb[0], tb[1], 0.0],
-            [ta[0], ta[1], 0.0],
-            [tn[0], tn[1], 0.0],
-        );
-        [u, w]
+        uv
     };
     let new = mesh.vertex_count() as u32;
     mesh.positions.push(position);
