@@ -671,45 +671,37 @@ pub fn decimate_scene(
         },
     );
     if stitched.inserted + stitched.skipped > 0 {
+        // Each count that is not zero, with what it counts.
+        let part = |count: usize, what: &str| {
+            if count > 0 {
+                format!(", {count} {what}")
+            } else {
+                String::new()
+            }
+        };
         eprintln!(
             "stitched the outlines the surfaces share: {} nodes one of them kept put back \
              into the others (a triangle each){}{}{}{}",
             stitched.inserted,
-            if stitched.corners > 0 {
-                format!(
-                    ", {} of them as a triangle of their own where a corner was cut off",
-                    stitched.corners
-                )
-            } else {
-                String::new()
-            },
-            if stitched.on_edge > 0 {
-                format!(
-                    ", {} of them on the edge they split, where their own place would fold a \
-                     triangle (their copies moved there too)",
-                    stitched.on_edge
-                )
-            } else {
-                String::new()
-            },
-            if stitched.texture_on_edge > 0 {
-                format!(
-                    ", {} with the edge's texture point, where their own would turn a \
-                     triangle over in texture space",
-                    stitched.texture_on_edge
-                )
-            } else {
-                String::new()
-            },
-            if stitched.skipped > 0 {
-                format!(
-                    ", {} left out or short of their place (where a triangle would fold, or \
-                     the outline left the input's)",
-                    stitched.skipped
-                )
-            } else {
-                String::new()
-            }
+            part(
+                stitched.corners,
+                "of them as a triangle of their own where a corner was cut off"
+            ),
+            part(
+                stitched.on_edge,
+                "of them on the edge they split, where their own place would fold a triangle \
+                 (their copies moved there too)"
+            ),
+            part(
+                stitched.texture_on_edge,
+                "with the edge's texture point, where their own would turn a triangle over in \
+                 texture space"
+            ),
+            part(
+                stitched.skipped,
+                "left out or short of their place (where a triangle would fold, or the outline \
+                 left the input's)"
+            ),
         );
     }
     let below: Vec<_> = chosen.iter().filter_map(|(_, b)| *b).collect();
