@@ -118,7 +118,8 @@ impl Outline {
 /// and relative to the same origin. After it, each shared outline node is in all the
 /// outputs whose inputs have it or in none, at its input position (or, where that
 /// would fold a triangle, at one place between it and the edge a surface split for
-/// it), so the outlines run through the same nodes along straight edges. Each node
+/// it, or as near that place as each copy goes), so the outlines run through the same
+/// nodes along straight edges. Each node
 /// put back costs a triangle. Nothing changes unless there is an output for every
 /// input.
 pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitched {
@@ -274,8 +275,8 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
     }
     // Then, their neighbours in place, those one surface put on an edge: all copies
     // at the first point from the input's place towards that edge where none of them
-    // folds a triangle (the surface that split its edge there too), else each copy
-    // that can at the edge.
+    // folds a triangle (the surface that split its edge there too), else each copy as
+    // far towards the edge as it goes without folding one.
     let mut stars: Vec<Option<VertexTriangles>> = (0..outputs.len()).map(|_| None).collect();
     for (key, list) in &shared {
         let Some(&edge) = on_edge.get(key) else {
