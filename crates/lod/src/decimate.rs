@@ -464,8 +464,19 @@ const FREE_COST: f64 = 1e-6;
 const DEAD: u32 = u32::MAX;
 
 /// Cost bound of a pass relative to the cost of the last collapse the target needs
-/// (meshoptimizer's `kPassErrorBound`).
-const PASS_ERROR_BOUND: f64 = 1.5;
+/// (meshoptimizer's `kPassErrorBound` is 1.5). A pass still makes its cheapest
+/// collapses first; the bound only says how costly a collapse it may make at all, and
+/// a looser one leaves fewer for later passes, each of which evaluates every edge
+/// again. Generated 500 x 500 layer to 10 %, bound 1.5 -> 2.5 -> 3.0 -> 4.0: passes
+/// 6, 5, 5, 4; instructions (callgrind, two decimations) 8.00, 7.25, 7.13, 6.85 G;
+/// the original grid lines' RMS distance 1.927, 1.875, 1.852, 1.906 e-2, largest
+/// 0.141, 0.153, 0.154, 0.165. At 1000 x 1000 the bound never binds (the same result
+/// at all four). Reek's layers to 10 % (`decimate_chosen`): passes 7 -> 6,
+/// instructions 731 -> 685 M. `strata bench lod`, 1.5 -> 3.0: line-pixel F1 of Reek
+/// 0.9980 -> 0.9975 at 10 %, 0.9087 -> 0.9230 at 2 %, its lines' RMS distance 5 %
+/// more at 10 %; emerald 0.9571 -> 0.9565 at 10 %; simpleb8 0.217 -> 0.315 at 5 %,
+/// 0.230 -> 0.323 at 2 %; every other row within 0.001.
+const PASS_ERROR_BOUND: f64 = 3.0;
 
 /// Rounds of local minima per pass (`Collapser::local_round`); what they leave is
 /// collapsed in cost order. A few rounds take most collapses of a pass; a cost field
@@ -2526,6 +2537,9 @@ mod tests {
         let home = reference.vertex_triangle.clone();
         let mut c = Collapser::new(&mesh, &home, &reference, &[], &options, None).unwrap();
         c.rebuild_lists();
+        // How far under the exact cost an estimate may be: meshoptimizer's pass
+        // margin, tighter than ours.
+        const UNDER_BY: f64 = 1.5;
         let (mut points, mut underestimated) = (0, 0);
         for t in 0..c.tris.len() as u32 {
             let tri = c.tris[t as usize];
@@ -2548,7 +2562,7 @@ mod tests {
                     .pair(a, b)
                     .error(&c.from(a, &c.place(a, b, point).unwrap().x));
                 points += 1;
-                if exact > PASS_ERROR_BOUND * estimate + c.tie {
+                if exact > UNDER_BY * estimate + c.tie {
                     underestimated += 1;
                 }
             }
@@ -2557,7 +2571,7 @@ mod tests {
         assert!(points > 1000, "{points} new points");
         assert!(
             underestimated * 10 < points,
-            "{underestimated} of {points} estimates under the exact cost by more than the pass's margin"
+            "{underestimated} of {points} estimates under the exact cost by more than {UNDER_BY} times"
         );
     }
 
