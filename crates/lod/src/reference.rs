@@ -99,26 +99,44 @@ pub(crate) fn boundary_edges(
 /// triangle that has both its ends, [`NONE`] when none or several do.
 /// Sequential: decimation runs in one thread (callers parallelise across meshes), so
 /// that its speed per core is what it seems.
+/// An edge's search fills both of its triangles, so each interior edge is searched
+/// once, not from both sides: the search was 5.7 % of a generated 500 x 500 layer's
+/// decimation to 10 % (callgrind).
 pub(crate) fn triangle_adjacency(triangles: &[[u32; 3]], vt: &VertexTriangles) -> Vec<[u32; 3]> {
-    triangles
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| {
-            std::array::from_fn(|k| {
-                let (p, q) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
-                let mut found = NONE;
-                for &s in vt.of(p) {
-                    if s as usize != t && triangles[s as usize].contains(&q) {
-                        if found != NONE {
-                            return NONE;
-                        }
-                        found = s;
+    /// Not searched yet.
+    const UNKNOWN: u32 = NONE - 1;
+    let mut adjacency = vec![[UNKNOWN; 3]; triangles.len()];
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            if adjacency[t][k] != UNKNOWN {
+                continue;
+            }
+            let (p, q) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+            let mut found = NONE;
+            let mut several = false;
+            for &s in vt.of(p) {
+                if s as usize != t && triangles[s as usize].contains(&q) {
+                    several = found != NONE;
+                    if several {
+                        break;
                     }
+                    found = s;
                 }
-                found
-            })
-        })
-        .collect()
+            }
+            if several {
+                adjacency[t][k] = NONE;
+                continue;
+            }
+            adjacency[t][k] = found;
+            // Only `t` and `found` have the edge: `found` needs no search for it.
+            if let Some(other) = triangles.get(found as usize)
+                && let Some(j) = (0..3).find(|&j| other[j] != p && other[j] != q)
+            {
+                adjacency[found as usize][j] = t as u32;
+            }
+        }
+    }
+    adjacency
 }
 
 impl<'m> Reference<'m> {
@@ -299,6 +317,39 @@ pub(crate) fn cross2(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn neighbours_across_edges_are_the_one_other_triangle_with_both_ends() {
+        // A strip of two triangles (0, 1), a third (2) on the far side of edge 1-2
+        // whose fourth triangle (3) makes that edge shared by three, and a fan of two
+        // (4, 5) hanging off vertex 0 with opposite orientations.
+        let triangles = vec![
+            [0, 1, 2],
+            [2, 1, 3],
+            [1, 4, 2],
+            [2, 5, 1],
+            [0, 6, 7],
+            [0, 8, 7],
+        ];
+        let vt = VertexTriangles::new(9, &triangles);
+        let adjacency = triangle_adjacency(&triangles, &vt);
+        // Brute force: the other triangles with both ends of each corner's edge.
+        for (t, tri) in triangles.iter().enumerate() {
+            for k in 0..3 {
+                let (p, q) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                let others: Vec<u32> = (0..triangles.len() as u32)
+                    .filter(|&s| s as usize != t)
+                    .filter(|&s| triangles[s as usize].contains(&p))
+                    .filter(|&s| triangles[s as usize].contains(&q))
+                    .collect();
+                let expected = if others.len() == 1 { others[0] } else { NONE };
+                assert_eq!(adjacency[t][k], expected, "triangle {t} corner {k}");
+            }
+        }
+        assert_eq!(adjacency[0], [NONE, NONE, NONE]);
+        assert_eq!(adjacency[4][1], 5);
+        assert_eq!(adjacency[5][1], 4);
+    }
 
     #[test]
     fn walk_finds_points_and_stops_at_holes() {
