@@ -902,7 +902,7 @@ impl<'a> Collapser<'a> {
             let [p0, p1, p2] = tri.map(|v| x[v as usize]);
             let normal = cross3(sub3(&p1, &p0), sub3(&p2, &p0));
             let area = 0.5 * dot3(normal, normal).sqrt();
-            let quad = Quadric::triangle(&p0, &p1, &p2, area);
+            let quad = Quadric::triangle(&p0, &p1, &p2, area).through();
             for &v in tri {
                 q[v as usize].add_through(&quad);
             }
@@ -928,7 +928,7 @@ impl<'a> Collapser<'a> {
                         let m = m.map(|c| c / len);
                         let d = dot3(m, [x[i][0], x[i][1], x[i][2]]);
                         let weight = f64::from(options.boundary_weight) * dot3(e, e);
-                        let quad = Quadric::plane(m, d, weight);
+                        let quad = Quadric::plane(m, d, weight).through();
                         q[i].add_through(&quad);
                         q[j].add_through(&quad);
                     }

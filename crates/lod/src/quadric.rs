@@ -53,15 +53,10 @@ pub(crate) struct Local {
 }
 
 impl Local {
-    /// Adds `q`, whose zero set passes through this quadric's point with zero
-    /// gradient there (a triangle or boundary plane at one of its corners): only its
-    /// second-order part and weight count around the point.
-    pub fn add_through(&mut self, q: &Quadric) {
-        self.a
-            .iter_mut()
-            .zip(&q.a)
-            .for_each(|(x, y)| *x += *y as f32);
-        self.w += q.w as f32;
+    /// Adds `q`, a [`Quadric::through`] this quadric's point.
+    pub fn add_through(&mut self, q: &Local) {
+        self.a.iter_mut().zip(&q.a).for_each(|(x, y)| *x += y);
+        self.w += q.w;
     }
 
     /// The quadric in double precision, around the point it is kept around.
@@ -99,6 +94,17 @@ pub(crate) fn dot(x: &Point, y: &Point) -> f64 {
 }
 
 impl Quadric {
+    /// This quadric around a point where its value and gradient are zero (a corner
+    /// of its triangle, a point of its plane): only its second-order part and weight,
+    /// narrowed once for the corners it is added to ([`Local::add_through`]).
+    pub fn through(&self) -> Local {
+        Local {
+            a: self.a.map(|x| x as f32),
+            w: self.w as f32,
+            ..Local::default()
+        }
+    }
+
     /// Squared distance to the plane of the triangle `p q r`, times `weight` (its
     /// area). Degenerate triangles give the zero quadric. Inlined: decimation's set-up
     /// adds only its second-order part, and the rest is then never computed (set-up
@@ -362,8 +368,8 @@ mod tests {
             ),
         );
         let mut local = Local::default();
-        local.add_through(&t1);
-        local.add_through(&t2);
+        local.add_through(&t1.through());
+        local.add_through(&t2.through());
         let mut exact = t1;
         exact.add(&t2);
         // Written around the frame's origin, and around the neighbouring corner `r`
