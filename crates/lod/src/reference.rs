@@ -116,8 +116,8 @@ pub(crate) fn triangle_adjacency(triangles: &[[u32; 3]], vt: &VertexTriangles) -
             let mut several = false;
             for &s in vt.of(p) {
                 if s as usize != t && triangles[s as usize].contains(&q) {
-                    several = found != NONE;
-                    if several {
+                    if found != NONE {
+                        several = true;
                         break;
                     }
                     found = s;
@@ -320,9 +320,9 @@ mod tests {
 
     #[test]
     fn neighbours_across_edges_are_the_one_other_triangle_with_both_ends() {
-        // A strip of two triangles (0, 1), a third (2) on the far side of edge 1-2
-        // whose fourth triangle (3) makes that edge shared by three, and a fan of two
-        // (4, 5) hanging off vertex 0 with opposite orientations.
+        // Four triangles on edge 1-2 (0 to 3: none has a neighbour across it), and two
+        // (4, 5) of opposite orientations on edge 0-7, hanging off vertex 0; every
+        // other edge is on the boundary.
         let triangles = vec![
             [0, 1, 2],
             [2, 1, 3],
