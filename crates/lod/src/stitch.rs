@@ -119,9 +119,8 @@ impl Outline {
 /// outputs whose inputs have it or in none, at its input position (or, where that
 /// would fold a triangle, at one place between it and the edge a surface split for
 /// it, or as near that place as each copy goes), so the outlines run through the same
-/// nodes along straight edges. Each node
-/// put back costs a triangle. Nothing changes unless there is an output for every
-/// input.
+/// nodes along straight edges. Each node put back costs a triangle. Nothing changes
+/// unless there is an output for every input.
 pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitched {
     let mut stitched = Stitched::default();
     let Some(origin) = inputs.first().map(|m| m.origin) else {

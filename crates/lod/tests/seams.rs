@@ -83,7 +83,6 @@ fn open_seam_edges(mesh: &SurfaceMesh, seams: &[[[f64; 3]; 2]], tolerance: f64) 
     (edges.len(), open)
 }
 
-/// How near two places must be to count as one: a millionth of `mesh`'s extent.
 /// The nearest point to `p` on segment `a b`.
 fn nearest_on_segment(p: [f64; 3], [a, b]: [[f64; 3]; 2]) -> [f64; 3] {
     let ab: [f64; 3] = std::array::from_fn(|k| b[k] - a[k]);
@@ -175,6 +174,7 @@ fn distance(p: [f64; 3], q: [f64; 3]) -> f64 {
     (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>().sqrt()
 }
 
+/// How near two places must be to count as one: a millionth of `mesh`'s extent.
 fn tolerance(mesh: &SurfaceMesh) -> f64 {
     let extent = mesh
         .positions
