@@ -1109,10 +1109,10 @@ impl<'a> Collapser<'a> {
             self.texcoord[b as usize].map(f64::from),
         );
         let edge = [ub[0] - ua[0], ub[1] - ua[1]];
-        // Every cost below comes from `A xb` and, for a new point, `A J` (the segment's
-        // and the plane's minima are expanded around `a`). The edge lies in the
-        // texture plane, `xb = J (ub - ua)`, so `A xb` follows from `A J` without a
-        // product of its own.
+        // Every cost below is expanded around `a`. For a new point they all come from
+        // the quadric on the texture plane (`A J` and three dot products): the edge
+        // lies in that plane, `xb = J (ub - ua)`, so keeping `b` and the segment's
+        // minimum need no product in the joint space of their own.
         // Nothing beats keeping `a` by more than a tie when that costs a tie or less
         // (costs are never negative): on flat, affine regions most edges end here,
         // before the texture plane is formed.
@@ -1125,14 +1125,12 @@ impl<'a> Collapser<'a> {
             return Some((keep_a_value / weight, Choice::KeepA));
         }
         let plane = if free {
-            self.jacobian(first)
-                .map(|j| (j, [q.apply(&j[0]), q.apply(&j[1])]))
+            self.jacobian(first).map(|j| {
+                let aj = [q.apply(&j[0]), q.apply(&j[1])];
+                (j, aj, q.on_plane(&j, &aj))
+            })
         } else {
             None
-        };
-        let axb = match &plane {
-            Some((_, aj)) => std::array::from_fn(|k| aj[0][k] * edge[0] + aj[1][k] * edge[1]),
-            None => q.apply(xb),
         };
         let mut best: Option<(f64, Choice)> = None;
         let mut consider = |value: f64, choice: Choice| {
@@ -1144,9 +1142,13 @@ impl<'a> Collapser<'a> {
             consider(keep_a_value, Choice::KeepA);
         }
         if keep_b {
-            consider(q.value_with(xb, &axb), Choice::KeepB);
+            let value = match &plane {
+                Some((_, _, on_plane)) => on_plane.value(edge),
+                None => q.value(xb),
+            };
+            consider(value, Choice::KeepB);
         }
-        if let Some((j, aj)) = plane {
+        if let Some((j, aj, on_plane)) = plane {
             let len2 = edge[0] * edge[0] + edge[1] * edge[1];
             let mid = [0.5 * (ua[0] + ub[0]), 0.5 * (ua[1] + ub[1])];
             // The plane's minimum is trusted within the disk on the edge, and only on the
@@ -1192,17 +1194,17 @@ impl<'a> Collapser<'a> {
             // its minimum is never worse than the edge's: the edge's is the fallback
             // for when the plane's is too far away to trust.
             if !placed
-                && let Some((d, value)) = q.minimize_on_plane(&j, &aj)
+                && let Some((d, value)) = on_plane.minimum()
                 && let Some(uv) = inside(d)
             {
-                consider(value.max(0.0), Choice::point(uv, 0.0));
+                consider(value, Choice::point(uv, 0.0));
                 placed = true;
             }
             if !placed {
-                let (t, value) = q.minimize_on_segment(xb, &axb);
+                let (t, value) = on_plane.minimum_on_segment(edge);
                 if t > 0.0 && t < 1.0 {
                     let uv = [ua[0] + t * edge[0], ua[1] + t * edge[1]];
-                    consider(value.max(0.0), Choice::point(uv, 0.0));
+                    consider(value, Choice::point(uv, 0.0));
                 }
             }
         }

@@ -203,12 +203,6 @@ impl Quadric {
         self.normalize(self.c)
     }
 
-    /// [`Quadric::value`] from a precomputed `A x`.
-    #[inline]
-    pub fn value_with(&self, x: &Point, ax: &Point) -> f64 {
-        (dot(x, ax) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
-    }
-
     /// [`Quadric::value`] at the point the quadric is written around.
     #[inline]
     pub fn value_at_origin(&self) -> f64 {
@@ -233,7 +227,7 @@ impl Quadric {
     /// `xᵀ A x + 2 bᵀ x + c`, never negative.
     #[inline]
     pub fn value(&self, x: &Point) -> f64 {
-        self.value_with(x, &self.apply(x))
+        (dot(x, &self.apply(x)) + 2.0 * dot(&self.b, x) + self.c).max(0.0)
     }
 
     /// The mean squared distance at `x`: `value / w` (the value itself when nothing
@@ -243,32 +237,17 @@ impl Quadric {
         self.normalize(self.value(x))
     }
 
-    /// Minimum over the plane `J d` through the point the quadric is written around
-    /// (`J`: two columns of R⁶), as `d` and the quadric's value there, given `A J`;
-    /// `None` when the quadric restricted to that plane is not well conditioned (flat
-    /// along some direction, so the minimum is not unique). Decimation searches
-    /// around an end of the collapsing edge, where the quadric is written: there its
-    /// gradient is `2 b` and its value `c`, without a product by `A`.
+    /// This quadric on the plane `J d` through the point it is written around (`J`:
+    /// two columns of R⁶), given `A J`. Decimation forms it around an end of the
+    /// collapsing edge, where the quadric's gradient is `2 b` and its value `c`,
+    /// without a product by `A`.
     #[inline]
-    pub fn minimize_on_plane(&self, j: &[Point; 2], aj: &[Point; 2]) -> Option<([f64; 2], f64)> {
-        let h = [dot(&j[0], &aj[0]), dot(&j[0], &aj[1]), dot(&j[1], &aj[1])];
-        let g: [f64; 2] = std::array::from_fn(|k| dot(&j[k], &self.b));
-        let det = h[0] * h[2] - h[1] * h[1];
-        let trace = h[0] + h[2];
-        if !(trace > 0.0 && det > 1e-9 * trace * trace) {
-            return None;
+    pub fn on_plane(&self, j: &[Point; 2], aj: &[Point; 2]) -> PlaneQuadric {
+        PlaneQuadric {
+            h: [dot(&j[0], &aj[0]), dot(&j[0], &aj[1]), dot(&j[1], &aj[1])],
+            g: std::array::from_fn(|k| dot(&j[k], &self.b)),
+            c: self.c,
         }
-        let inv = 1.0 / det;
-        let d = [
-            -(h[2] * g[0] - h[1] * g[1]) * inv,
-            -(h[0] * g[1] - h[1] * g[0]) * inv,
-        ];
-        let value = self.c
-            + 2.0 * (d[0] * g[0] + d[1] * g[1])
-            + d[0] * d[0] * h[0]
-            + 2.0 * d[0] * d[1] * h[1]
-            + d[1] * d[1] * h[2];
-        Some((d, value))
     }
 
     /// Minimum over the 3-space `C d` through the point the quadric is written around
@@ -310,19 +289,63 @@ impl Quadric {
         }
         Some((d, value))
     }
+}
 
-    /// Minimum over the segment `t e`, `t` in `[0, 1]`, from the point the quadric is
-    /// written around, as `t` and the value there, given `A e`.
+/// A [`Quadric`] on a plane through the point it is written around, in the plane's
+/// own coordinates: `d ↦ dᵀ H d + 2 gᵀ d + c` ([`Quadric::on_plane`]). Where an
+/// edge's texture plane is known, the edge lies in it, so the costs of both its ends,
+/// of the plane's minimum and of the segment's come from these six numbers, with no
+/// further product in the joint space.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PlaneQuadric {
+    h: [f64; 3],
+    g: [f64; 2],
+    c: f64,
+}
+
+impl PlaneQuadric {
+    /// The quadric's value at `d`, never negative.
     #[inline]
-    pub fn minimize_on_segment(&self, e: &Point, ae: &Point) -> (f64, f64) {
-        let h = dot(e, ae);
-        let g = dot(e, &self.b);
+    pub fn value(&self, d: [f64; 2]) -> f64 {
+        let h = &self.h;
+        (self.c
+            + 2.0 * (d[0] * self.g[0] + d[1] * self.g[1])
+            + d[0] * d[0] * h[0]
+            + 2.0 * d[0] * d[1] * h[1]
+            + d[1] * d[1] * h[2])
+            .max(0.0)
+    }
+
+    /// The minimum, as `d` and the value there; `None` when the quadric is not well
+    /// conditioned on the plane (flat along some direction, so the minimum is not
+    /// unique).
+    #[inline]
+    pub fn minimum(&self) -> Option<([f64; 2], f64)> {
+        let (h, g) = (&self.h, &self.g);
+        let det = h[0] * h[2] - h[1] * h[1];
+        let trace = h[0] + h[2];
+        if !(trace > 0.0 && det > 1e-9 * trace * trace) {
+            return None;
+        }
+        let inv = 1.0 / det;
+        let d = [
+            -(h[2] * g[0] - h[1] * g[1]) * inv,
+            -(h[0] * g[1] - h[1] * g[0]) * inv,
+        ];
+        Some((d, self.value(d)))
+    }
+
+    /// The minimum over the segment `t e`, `t` in `[0, 1]`, as `t` and the value there.
+    #[inline]
+    pub fn minimum_on_segment(&self, e: [f64; 2]) -> (f64, f64) {
+        let h = e[0] * e[0] * self.h[0] + 2.0 * e[0] * e[1] * self.h[1] + e[1] * e[1] * self.h[2];
+        let g = e[0] * self.g[0] + e[1] * self.g[1];
         let t = if h > 0.0 {
             (-g / h).clamp(0.0, 1.0)
         } else {
             0.0
         };
-        (t, self.c + 2.0 * t * g + t * t * h)
+        (t, (self.c + 2.0 * t * g + t * t * h).max(0.0))
     }
 }
 
@@ -410,26 +433,23 @@ mod tests {
         let mut quad = Quadric::plane([0.0, 0.0, 1.0], 1.0 - 5.0, 1.0);
         quad.add(&Quadric::plane([0.0, 0.0, 1.0], -1.0 - 5.0, 1.0));
         assert!((quad.error_at_origin() - 52.0).abs() < 1e-9);
-        let e = pt(0.0, 0.0, -10.0, 0.0, 0.0, 0.0);
-        let (t, value) = quad.minimize_on_segment(&e, &quad.apply(&e));
-        // At z = 0 both planes are at distance 1.
-        assert!(
-            (t - 0.5).abs() < 1e-12 && (value - 2.0).abs() < 1e-9,
-            "{t} {value}"
-        );
         // The plane spanned by x and z: flat along x, so no unique minimum.
         let j = [
             pt(1.0, 0.0, 0.0, 0.0, 0.0, 0.0),
             pt(0.0, 0.0, 1.0, 0.0, 0.0, 0.0),
         ];
-        let on_plane = |quad: &Quadric| {
-            let aj = [quad.apply(&j[0]), quad.apply(&j[1])];
-            quad.minimize_on_plane(&j, &aj)
-        };
-        assert_eq!(on_plane(&quad), None);
+        let on_plane = |quad: &Quadric| quad.on_plane(&j, &[quad.apply(&j[0]), quad.apply(&j[1])]);
+        // Down z to -5 on the plane: at z = 0 both planes are at distance 1.
+        let (t, value) = on_plane(&quad).minimum_on_segment([0.0, -10.0]);
+        assert!(
+            (t - 0.5).abs() < 1e-12 && (value - 2.0).abs() < 1e-9,
+            "{t} {value}"
+        );
+        assert!((on_plane(&quad).value([0.0, -10.0]) - 52.0).abs() < 1e-9);
+        assert!(on_plane(&quad).minimum().is_none());
         // Add x = 2 and the minimum is unique: x = 2, z = 0.
         quad.add(&Quadric::plane([1.0, 0.0, 0.0], 2.0, 1.0));
-        let (d, value) = on_plane(&quad).unwrap();
+        let (d, value) = on_plane(&quad).minimum().unwrap();
         assert!(
             (d[0] - 2.0).abs() < 1e-9 && (d[1] + 5.0).abs() < 1e-9,
             "{d:?}"
