@@ -26,8 +26,9 @@
 //!   that masks fragments by cell.
 //! * Order and speed: collapses run in passes, as in meshoptimizer. A pass evaluates
 //!   every edge and collapses them, up to what the target still needs and under an
-//!   error bound of 1.5 times the cost of the last collapse the target would need
-//!   (never below the last pass's, and twice it after a pass that stalled);
+//!   error bound of 3 times the cost of the last collapse the target would need
+//!   (meshoptimizer's is 1.5; [`PASS_ERROR_BOUND`] says why; never below the last
+//!   pass's, and twice it after a pass that stalled);
 //!   the two ends of a collapse are left alone for the rest of the pass. Cheapest
 //!   first, but in surface order where that is the same thing: a few rounds take the
 //!   edges that are the cheapest at both their ends in the order of the triangles,
