@@ -8,7 +8,7 @@
 //! `simplify_with_update` does (it moves kept vertices to its quadric optimum and
 //! updates their attributes), but then nothing ties the new texture coordinates to
 //! the original surface at the new position. Ours places new vertices and keeps them
-//! on the original surface (see [`crate::decimate`]).
+//! on the original surface (see [`crate::decimate()`]).
 //!
 //! `clusterlod` builds meshoptimizer's other answer to massive meshes, a Nanite-style
 //! DAG of clusters whose group borders are locked while each level is simplified;

@@ -82,7 +82,7 @@ pub struct Chosen {
     pub outline: Option<OutlineBound>,
 }
 
-/// [`decimate`](crate::decimate), or, where the target is below the surface's
+/// [`decimate`](crate::decimate()), or, where the target is below the surface's
 /// [`outline_bound`](crate::measure::outline_bound), meshoptimizer's `simplify`
 /// [`fit`] to the original grid lines; ours (fitted too) where meshoptimizer's result
 /// draws none of them (it takes a target of no triangle literally). Ours fitted

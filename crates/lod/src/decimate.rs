@@ -721,7 +721,7 @@ struct Collapser<'a> {
     /// measured faster than deriving it from three (generated 1000 x 1000 layer to
     /// 10 %: evaluate 0.85 s against 1.03-1.14 s, collapse 1.5 s against 1.7-2.0 s).
     x: Vec<Point>,
-    /// Each around its vertex's `x` ([`Collapser::quadric`]).
+    /// Each written around its vertex's `x` ([`Local`]), in single precision.
     q: Vec<Local>,
     position: Vec<[f32; 3]>,
     texcoord: Vec<[f32; 2]>,

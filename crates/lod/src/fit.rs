@@ -177,7 +177,7 @@ const HELD: u32 = NONE - 1;
 
 /// Per vertex of `mesh` (`star`: its vertex-to-triangle lists), the other boundary
 /// vertex at its position, with which it moves as one, so that the two sides of a
-/// seam stay together (see [`crate::decimate`]); [`NONE`] for none, [`HELD`] where
+/// seam stay together (see [`crate::decimate()`]); [`NONE`] for none, [`HELD`] where
 /// more than two boundary vertices meet.
 fn seam_partners(mesh: &SurfaceMesh, star: &VertexTriangles) -> Vec<u32> {
     let n = mesh.vertex_count();

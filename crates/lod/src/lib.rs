@@ -1,6 +1,6 @@
 //! strata-lod: level of detail for strata surfaces (DESIGN.md section 4).
 //!
-//! * [`decimate`]: edge-collapse simplification of a [`strata_grid::SurfaceMesh`] that
+//! * [`decimate()`]: edge-collapse simplification of a [`strata_grid::SurfaceMesh`] that
 //!   keeps every vertex on the original surface (or lifted off it along the normal by
 //!   at most the error) with the original surface's texture coordinates and scalar
 //!   there, so the original grid wireframe (global coordinates) is still drawn where
