@@ -1110,10 +1110,11 @@ impl<'a> Collapser<'a> {
             self.texcoord[b as usize].map(f64::from),
         );
         let edge = [ub[0] - ua[0], ub[1] - ua[1]];
-        // Every cost below is expanded around `a`. For a new point they all come from
-        // the quadric on the texture plane (`A J` and three dot products): the edge
-        // lies in that plane, `xb = J (ub - ua)`, so keeping `b` and the segment's
-        // minimum need no product in the joint space of their own.
+        // Every cost below is expanded around `a`. Where the texture plane is formed
+        // (a new point may be placed), they all come from the quadric on that plane
+        // (`A J` and five dot products): the edge lies in it, `xb = J (ub - ua)`, so
+        // keeping `b` and the segment's minimum need no product in the joint space
+        // of their own.
         // Nothing beats keeping `a` by more than a tie when that costs a tie or less
         // (costs are never negative): on flat, affine regions most edges end here,
         // before the texture plane is formed.
