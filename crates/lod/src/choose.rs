@@ -37,7 +37,7 @@ use strata_grid::SurfaceMesh;
 use crate::baseline::{Simplifier, simplify};
 use crate::decimate::decimate_prepared;
 use crate::fit::fit;
-use crate::measure::{Deviation, GridLines, Located, OutlineBound, outline_bound_of};
+use crate::measure::{Deviation, GridLines, Located, OutlineBound, components, outline_bound_of};
 use crate::reference::{NONE, Reference};
 use crate::{Decimated, Options, Result};
 
@@ -104,16 +104,20 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
     // free: most targets are far above them, and the exact bound is not needed.
     let outline_edges = reference.adjacency.iter().flatten();
     let outline_edges = outline_edges.filter(|&&t| t == NONE).count();
-    let bound =
+    let labels =
         (fitting && !options.cover && (target as f64) < FIT_NEAR_BOUND * outline_edges as f64)
-            .then(|| outline_bound_of(mesh, &vt, &reference.adjacency));
+            .then(|| components(mesh));
+    let bound = labels
+        .as_ref()
+        .map(|labels| outline_bound_of(mesh, &vt, &reference.adjacency, labels));
     let z_scale = f64::from(options.z_scale);
     let on_lines = |decimated: &mut Decimated, lines: &GridLines| {
         let located = lines.locate(&decimated.mesh, &decimated.home, z_scale);
         fitted(&located, decimated, z_scale)
     };
     if bound.is_some_and(|bound| target < bound.min_triangles) {
-        let lines = GridLines::of(mesh, SAMPLES_PER_EDGE);
+        let labels = labels.unwrap_or_else(|| components(mesh));
+        let lines = GridLines::of_parts(mesh, &vt, &reference.adjacency, labels, SAMPLES_PER_EDGE);
         let mut theirs = simplify(mesh, Simplifier::Simplify, target, options.z_scale)?;
         if let Some(scores) = on_lines(&mut theirs, &lines) {
             return Ok(Chosen {

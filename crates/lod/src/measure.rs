@@ -63,6 +63,10 @@ pub struct UvIndex<'m> {
     /// texture coordinates (`None` without texture area): testing a candidate
     /// triangle then reads none of its vertices.
     affine: Vec<Option<[[f64; 3]; 2]>>,
+    /// Per triangle, its texture-space bounds (lowest u and v, then highest): the
+    /// nearest-point search turns most triangles of its rings away by them, without
+    /// reading a vertex.
+    bounds: Vec<[f32; 4]>,
     lo: [f64; 2],
     cell: f64,
     dims: [usize; 2],
@@ -125,10 +129,21 @@ impl<'m> UvIndex<'m> {
             .iter()
             .map(|t| affine_barycentric(t.map(|v| mesh.texcoords[v as usize].map(f64::from))))
             .collect();
+        let bounds = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let c = t.map(|v| mesh.texcoords[v as usize]);
+                let lo = |a: usize| c[0][a].min(c[1][a]).min(c[2][a]);
+                let hi = |a: usize| c[0][a].max(c[1][a]).max(c[2][a]);
+                [lo(0), lo(1), hi(0), hi(1)]
+            })
+            .collect();
         UvIndex {
             mesh,
             labels,
             affine,
+            bounds,
             lo,
             cell,
             dims,
@@ -196,6 +211,10 @@ impl<'m> UvIndex<'m> {
         let x = ((uv[0] - self.lo[0]) / self.cell).floor() as i64;
         let y = ((uv[1] - self.lo[1]) / self.cell).floor() as i64;
         let mut best: Option<(f64, SurfacePoint)> = None;
+        // Triangles already measured: a large one is in several buckets of the rings,
+        // and its distance, measured again, could not beat the best (at most it).
+        let mut measured = [NONE; 16];
+        let mut count = 0;
         let r = rings as i64;
         for by in (y - r).max(0)..=(y + r).min(self.dims[1] as i64 - 1) {
             for bx in (x - r).max(0)..=(x + r).min(self.dims[0] as i64 - 1) {
@@ -203,23 +222,22 @@ impl<'m> UvIndex<'m> {
                     if self.labels[t as usize] != label {
                         continue;
                     }
-                    let c = self.mesh.triangles[t as usize]
-                        .map(|v| self.mesh.texcoords[v as usize].map(f64::from));
-                    // No nearer than its box: most triangles of the rings (large ones
-                    // are in several buckets) end here.
-                    let gap = |a: usize| {
-                        let (lo, hi) = (
-                            c[0][a].min(c[1][a]).min(c[2][a]),
-                            c[0][a].max(c[1][a]).max(c[2][a]),
-                        );
-                        (lo - uv[a]).max(uv[a] - hi).max(0.0)
-                    };
+                    // No nearer than its box: most triangles of the rings end here.
+                    let b = self.bounds[t as usize].map(f64::from);
+                    let gap = |a: usize| (b[a] - uv[a]).max(uv[a] - b[a + 2]).max(0.0);
                     if best
                         .as_ref()
                         .is_some_and(|(bd, _)| gap(0).powi(2) + gap(1).powi(2) >= *bd)
+                        || measured[..count].contains(&t)
                     {
                         continue;
                     }
+                    if count < measured.len() {
+                        measured[count] = t;
+                        count += 1;
+                    }
+                    let c = self.mesh.triangles[t as usize]
+                        .map(|v| self.mesh.texcoords[v as usize].map(f64::from));
                     let (d2, w) = closest_in_triangle(uv, c);
                     if best.as_ref().is_none_or(|(bd, _)| d2 < *bd) {
                         best = Some((
@@ -371,41 +389,64 @@ impl<'m> GridLines<'m> {
     /// The cell edges of `original`, to be sampled at `per_edge` points each (at least
     /// one: the edge's first end).
     pub fn of(original: &'m SurfaceMesh, per_edge: usize) -> Self {
-        let labels = components(original);
         let vt = VertexTriangles::new(original.vertex_count(), &original.triangles);
-        let cell_edges = |(t, tri): (usize, &[u32; 3])| -> [Option<[u32; 3]>; 3] {
-            std::array::from_fn(|k| {
-                let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                let (ta, tb) = (
-                    original.texcoords[a as usize],
-                    original.texcoords[b as usize],
-                );
-                // Each cell edge once (from the triangle where it runs a -> b with
-                // a < b, or from its only triangle on a boundary either way).
-                let on_line = ta[0] == tb[0] || ta[1] == tb[1];
-                let boundary = || {
-                    !vt.of(a)
-                        .iter()
-                        .any(|&s| s as usize != t && original.triangles[s as usize].contains(&b))
-                };
-                (on_line && (a < b || boundary())).then_some([a, b, labels[t]])
-            })
+        let adjacency = triangle_adjacency(&original.triangles, &vt);
+        GridLines::of_parts(original, &vt, &adjacency, components(original), per_edge)
+    }
+
+    /// [`GridLines::of`] `original` with its vertex triangles, [`triangle_adjacency`]
+    /// and the [`components`] of its triangles, where the caller has them already.
+    pub(crate) fn of_parts(
+        original: &'m SurfaceMesh,
+        vt: &VertexTriangles,
+        adjacency: &[[u32; 3]],
+        labels: Vec<u32>,
+        per_edge: usize,
+    ) -> Self {
+        // The cell edges of triangles `first..` (`triangles`), in order, into `out`.
+        let cell_edges = |first: usize, triangles: &[[u32; 3]], out: &mut Vec<[u32; 3]>| {
+            for (t, tri) in (first..).zip(triangles) {
+                for k in 0..3 {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    let (ta, tb) = (
+                        original.texcoords[a as usize],
+                        original.texcoords[b as usize],
+                    );
+                    // Each cell edge once (from the triangle where it runs a -> b with
+                    // a < b, or from its only triangle on a boundary either way). A
+                    // neighbour across it says it is none; without one, another
+                    // triangle may still have it (where several do), and only a
+                    // search tells.
+                    let on_line = ta[0] == tb[0] || ta[1] == tb[1];
+                    let boundary = || {
+                        adjacency[t][(k + 2) % 3] == NONE
+                            && !vt.of(a).iter().any(|&s| {
+                                s as usize != t && original.triangles[s as usize].contains(&b)
+                            })
+                    };
+                    if on_line && (a < b || boundary()) {
+                        out.push([a, b, labels[t]]);
+                    }
+                }
+            }
         };
-        let edges = if original.triangle_count() < PARALLEL_EDGES {
-            original
-                .triangles
-                .iter()
-                .enumerate()
-                .flat_map(|e| cell_edges(e).into_iter().flatten())
-                .collect()
+        let triangles = &original.triangles;
+        let mut edges = Vec::with_capacity(triangles.len() * 3 / 2 + 8);
+        if triangles.len() < PARALLEL_EDGES {
+            cell_edges(0, triangles, &mut edges);
         } else {
-            original
-                .triangles
-                .par_iter()
+            let chunk = PARALLEL_EDGES / 4;
+            let parts: Vec<Vec<[u32; 3]>> = triangles
+                .par_chunks(chunk)
                 .enumerate()
-                .flat_map_iter(|e| cell_edges(e).into_iter().flatten())
-                .collect()
-        };
+                .map(|(i, part)| {
+                    let mut out = Vec::with_capacity(part.len() * 3 / 2 + 8);
+                    cell_edges(i * chunk, part, &mut out);
+                    out
+                })
+                .collect();
+            parts.iter().for_each(|part| edges.extend_from_slice(part));
+        }
         GridLines {
             original,
             labels,
@@ -709,14 +750,16 @@ pub struct OutlineBound {
 pub fn outline_bound(mesh: &SurfaceMesh) -> OutlineBound {
     let vt = VertexTriangles::new(mesh.vertex_count(), &mesh.triangles);
     let adjacency = triangle_adjacency(&mesh.triangles, &vt);
-    outline_bound_of(mesh, &vt, &adjacency)
+    outline_bound_of(mesh, &vt, &adjacency, &components(mesh))
 }
 
-/// [`outline_bound`] of `mesh` with its vertex triangles and triangle adjacency.
+/// [`outline_bound`] of `mesh` with its vertex triangles, triangle adjacency and the
+/// [`components`] of its triangles.
 pub(crate) fn outline_bound_of(
     mesh: &SurfaceMesh,
     vt: &VertexTriangles,
     adjacency: &[[u32; 3]],
+    labels: &[u32],
 ) -> OutlineBound {
     let n = mesh.vertex_count();
     // The outline neighbours of every vertex (edges with no single neighbour).
@@ -747,7 +790,6 @@ pub(crate) fn outline_bound_of(
         }
         _ => true,
     };
-    let labels = components(mesh);
     let pieces = labels.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
     let mut corners = vec![0usize; pieces];
     for v in (0..n).filter(|&v| is_corner(v)) {
