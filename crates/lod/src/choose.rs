@@ -138,11 +138,15 @@ pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> 
     }
     let near =
         bound.is_some_and(|bound| (target as f64) < FIT_NEAR_BOUND * bound.min_triangles as f64);
+    // Sampled before the decimation takes the vertex triangles.
+    let cover_lines = (fitting && options.cover).then(|| {
+        let labels = components(mesh);
+        GridLines::of_parts(mesh, &vt, &reference.adjacency, labels, SAMPLES_PER_EDGE)
+    });
     let (mut ours, nodes) = decimate_prepared(&reference, vt, options, prepared, near)?;
-    let scores = if fitting && options.cover {
-        on_lines(&mut ours, &GridLines::of(mesh, SAMPLES_PER_EDGE))
-    } else {
-        nodes.and_then(|nodes| fitted(&nodes, &mut ours, z_scale))
+    let scores = match &cover_lines {
+        Some(lines) => on_lines(&mut ours, lines),
+        None => nodes.and_then(|nodes| fitted(&nodes, &mut ours, z_scale)),
     };
     Ok(Chosen {
         decimated: ours,

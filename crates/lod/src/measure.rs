@@ -430,23 +430,23 @@ impl<'m> GridLines<'m> {
                 }
             }
         };
+        let of_part = |first: usize, part: &[[u32; 3]]| {
+            let mut edges = Vec::with_capacity(part.len() * 3 / 2 + 8);
+            cell_edges(first, part, &mut edges);
+            edges
+        };
         let triangles = &original.triangles;
-        let mut edges = Vec::with_capacity(triangles.len() * 3 / 2 + 8);
-        if triangles.len() < PARALLEL_EDGES {
-            cell_edges(0, triangles, &mut edges);
+        let edges = if triangles.len() < PARALLEL_EDGES {
+            of_part(0, triangles)
         } else {
             let chunk = PARALLEL_EDGES / 4;
             let parts: Vec<Vec<[u32; 3]>> = triangles
                 .par_chunks(chunk)
                 .enumerate()
-                .map(|(i, part)| {
-                    let mut out = Vec::with_capacity(part.len() * 3 / 2 + 8);
-                    cell_edges(i * chunk, part, &mut out);
-                    out
-                })
+                .map(|(i, part)| of_part(i * chunk, part))
                 .collect();
-            parts.iter().for_each(|part| edges.extend_from_slice(part));
-        }
+            parts.concat()
+        };
         GridLines {
             original,
             labels,
