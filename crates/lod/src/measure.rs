@@ -63,9 +63,8 @@ pub struct UvIndex<'m> {
     /// texture coordinates (`None` without texture area): testing a candidate
     /// triangle then reads none of its vertices.
     affine: Vec<Option<[[f64; 3]; 2]>>,
-    /// Per triangle, its texture-space bounds (lowest u and v, then highest): the
-    /// nearest-point search turns most triangles of its rings away by them, without
-    /// reading a vertex.
+    /// Per triangle, its [`texture_bounds`]: the nearest-point search turns most
+    /// triangles of its rings away by them, without reading a vertex.
     bounds: Vec<[f32; 4]>,
     lo: [f64; 2],
     cell: f64,
@@ -108,18 +107,23 @@ impl<'m> UvIndex<'m> {
         ];
         let cell = (w / dims[0] as f64).max(h / dims[1] as f64);
         let grid = Grid { lo, cell, dims };
+        let bounds: Vec<[f32; 4]> = mesh
+            .triangles
+            .iter()
+            .map(|t| texture_bounds(mesh, t))
+            .collect();
         // Two sweeps: count, then fill (compressed rows).
         let mut start = vec![0u32; dims[0] * dims[1] + 1];
-        for t in &mesh.triangles {
-            grid.buckets(mesh, t, |b| start[b + 1] += 1);
+        for b in &bounds {
+            grid.buckets(b, |b| start[b + 1] += 1);
         }
         for b in 0..dims[0] * dims[1] {
             start[b + 1] += start[b];
         }
         let mut fill = start.clone();
         let mut items = vec![0; start[dims[0] * dims[1]] as usize];
-        for (i, t) in mesh.triangles.iter().enumerate() {
-            grid.buckets(mesh, t, |b| {
+        for (i, b) in bounds.iter().enumerate() {
+            grid.buckets(b, |b| {
                 items[fill[b] as usize] = i as u32;
                 fill[b] += 1;
             });
@@ -128,16 +132,6 @@ impl<'m> UvIndex<'m> {
             .triangles
             .iter()
             .map(|t| affine_barycentric(t.map(|v| mesh.texcoords[v as usize].map(f64::from))))
-            .collect();
-        let bounds = mesh
-            .triangles
-            .iter()
-            .map(|t| {
-                let c = t.map(|v| mesh.texcoords[v as usize]);
-                let lo = |a: usize| c[0][a].min(c[1][a]).min(c[2][a]);
-                let hi = |a: usize| c[0][a].max(c[1][a]).max(c[2][a]);
-                [lo(0), lo(1), hi(0), hi(1)]
-            })
             .collect();
         UvIndex {
             mesh,
@@ -286,29 +280,33 @@ struct Grid {
 }
 
 impl Grid {
-    /// Calls `f` with every bucket that the texture-space bounds of `t` touch.
-    fn buckets(&self, mesh: &SurfaceMesh, t: &[u32; 3], mut f: impl FnMut(usize)) {
-        let c = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
-        if c.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+    /// Calls `f` with every bucket that the [`texture_bounds`] `b` of a triangle touch.
+    fn buckets(&self, b: &[f32; 4], mut f: impl FnMut(usize)) {
+        if b.iter().any(|x| !x.is_finite()) {
             return;
         }
-        let at = |x: f64, lo: f64, n: usize| {
-            (((x - lo) / self.cell).floor() as i64).clamp(0, n as i64 - 1) as usize
+        let at = |x: f32, lo: f64, n: usize| {
+            (((f64::from(x) - lo) / self.cell).floor() as i64).clamp(0, n as i64 - 1) as usize
         };
-        let (u0, u1) = (
-            c[0][0].min(c[1][0]).min(c[2][0]),
-            c[0][0].max(c[1][0]).max(c[2][0]),
-        );
-        let (v0, v1) = (
-            c[0][1].min(c[1][1]).min(c[2][1]),
-            c[0][1].max(c[1][1]).max(c[2][1]),
-        );
-        for y in at(v0, self.lo[1], self.dims[1])..=at(v1, self.lo[1], self.dims[1]) {
-            for x in at(u0, self.lo[0], self.dims[0])..=at(u1, self.lo[0], self.dims[0]) {
+        for y in at(b[1], self.lo[1], self.dims[1])..=at(b[3], self.lo[1], self.dims[1]) {
+            for x in at(b[0], self.lo[0], self.dims[0])..=at(b[2], self.lo[0], self.dims[0]) {
                 f(y * self.dims[0] + x);
             }
         }
     }
+}
+
+/// The texture-space bounds of triangle `t` of `mesh`: lowest u and v, then highest;
+/// NaN where a corner's texture coordinates are not finite (such a triangle is in no
+/// bucket).
+fn texture_bounds(mesh: &SurfaceMesh, t: &[u32; 3]) -> [f32; 4] {
+    let c = t.map(|v| mesh.texcoords[v as usize]);
+    if c.iter().any(|p| !(p[0].is_finite() && p[1].is_finite())) {
+        return [f32::NAN; 4];
+    }
+    let lo = |a: usize| c[0][a].min(c[1][a]).min(c[2][a]);
+    let hi = |a: usize| c[0][a].max(c[1][a]).max(c[2][a]);
+    [lo(0), lo(1), hi(0), hi(1)]
 }
 
 /// Squared distance from `p` to triangle `c` (2D) and the barycentric coordinates
