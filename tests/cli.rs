@@ -249,3 +249,68 @@ fn work_beyond_the_memory_there_is_is_refused_before_it_starts() {
         assert!(!out.exists(), "{args:?} wrote {}", out.display());
     }
 }
+
+/// One stray depth in an active cell (a corrupt value of 1e11 m) stretches the
+/// model's extent until the rest is a speck: `render`, the parts `render` draws a
+/// large scene in, and `lod view` write the blank picture and say why; a sound
+/// model's picture gets no such note.
+#[test]
+fn a_picture_of_nothing_but_the_background_says_why() {
+    use std::process::Command;
+    use strata::grid::synth::{SynthParams, generate};
+
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut grid = generate(&SynthParams {
+        nx: 12,
+        ny: 10,
+        nz: 2,
+        faults: 1,
+        seed: 3,
+    })
+    .expect("a synthetic grid");
+    let sound = dir.path().join("sound.grdecl");
+    strata::grid::save(&grid, &sound).expect("written");
+    let (_, j, i) = grid
+        .actnum
+        .indexed_iter()
+        .find_map(|(at, &active)| active.then_some(at))
+        .expect("an active cell");
+    grid.zcorn[[0, 2 * j, 2 * i]] = 1e11;
+    let stray = dir.path().join("stray.grdecl");
+    strata::grid::save(&grid, &stray).expect("written");
+
+    let strata = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args(args)
+            .output()
+            .expect("the strata binary runs");
+        let said = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {said}");
+        said
+    };
+    let path = |p: &std::path::Path| p.to_str().expect("a UTF-8 path").to_string();
+    let (sound, stray) = (path(&sound), path(&stray));
+    let png = path(&dir.path().join("picture.png"));
+    let blank = || {
+        let picture = strata::render::image::open(&png).expect("a PNG").to_rgba8();
+        picture.pixels().all(|p| p.0 == [255; 4])
+    };
+    let note = "the background alone, no part of the model covers a pixel";
+
+    let said = strata(&["render", &sound, "--size", "200x150", "-o", &png]);
+    assert!(!said.contains(note) && !blank(), "{said}");
+    for options in [&[][..], &["--part-cells", "100"]] {
+        let mut args = vec!["render", &stray, "--size", "200x150", "-o", &png];
+        args.extend_from_slice(options);
+        let said = strata(&args);
+        assert!(said.contains(note) && blank(), "{options:?}: {said}");
+    }
+    let lod = path(&dir.path().join("stray.lod"));
+    strata(&["lod", "build", &stray, "-o", &lod]);
+    for wire in ["global", "dist"] {
+        let said = strata(&[
+            "lod", "view", &lod, "--wire", wire, "--size", "200x150", "-o", &png,
+        ]);
+        assert!(said.contains(note) && blank(), "{wire}: {said}");
+    }
+}

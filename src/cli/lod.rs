@@ -349,22 +349,27 @@ fn view(args: &ViewArgs) -> Result<()> {
         tile,
         of: shown.as_deref(),
     };
+    // Nothing chosen covers a pixel: the picture is the background (and the sides),
+    // which `save_picture` notes.
     let drawable = match &cover {
-        Some(cover) => renderer
-            .prepare_cells(
-                &mesh,
-                &CellDraw {
-                    pieces: &cover.vertex_piece,
-                    cover,
-                    values: values.as_deref().map(tiled),
-                    corners: corners.as_deref().map(tiled),
-                    mask: false,
-                    wire: wire == WireMode::Global,
-                    stacking: None,
-                },
-            )
-            .context("preparing the selection over the model's cells")?,
-        None => renderer.prepare(&mesh, wire)?,
+        _ if chosen.is_empty() => None,
+        Some(cover) => Some(
+            renderer
+                .prepare_cells(
+                    &mesh,
+                    &CellDraw {
+                        pieces: &cover.vertex_piece,
+                        cover,
+                        values: values.as_deref().map(tiled),
+                        corners: corners.as_deref().map(tiled),
+                        mask: false,
+                        wire: wire == WireMode::Global,
+                        stacking: None,
+                    },
+                )
+                .context("preparing the selection over the model's cells")?,
+        ),
+        None => Some(renderer.prepare(&mesh, wire)?),
     };
     let side_drawable = match &sides {
         Some(sides) => Some(
@@ -373,11 +378,13 @@ fn view(args: &ViewArgs) -> Result<()> {
         ),
         None => None,
     };
-    let drawables: Vec<&dyn Drawable> = std::iter::once(drawable.as_ref())
+    let drawables: Vec<&dyn Drawable> = drawable
+        .as_deref()
+        .into_iter()
         .chain(side_drawable.as_deref())
         .collect();
     let image = renderer.render(&drawables, &view, &style)?;
-    strata::render::save_png(&image, output)?;
+    super::save_picture(&image, style.background, output)?;
     eprintln!(
         "{}: drawn with the {} wireframe{}, {}{}{}",
         output.display(),

@@ -33,6 +33,26 @@ impl ReadArgs {
     }
 }
 
+/// Saves `image` to `path`, and says so when it is `background` alone: no part of the
+/// model covered a pixel, and the user would otherwise find a blank picture.
+pub fn save_picture(
+    image: &strata::render::image::RgbaImage,
+    background: [f32; 4],
+    path: &Path,
+) -> Result<()> {
+    strata::render::save_png(image, path)?;
+    let clear = background.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+    if image.pixels().all(|p| p.0 == clear) {
+        eprintln!(
+            "note: {}: the background alone, no part of the model covers a pixel; the view \
+             frames the model's extent, which `strata info` on the model gives: a few stray \
+             depths or coordinates can stretch it until the rest is a speck",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
 /// Opens `model` (the sample in `data/` when `None`) as `read` says, and adds the
 /// per-cell arrays of each of its property decks (e.g. the PORO GRDECL that goes with
 /// an EGRID).

@@ -258,7 +258,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         )?
     };
     let image = renderer.render(&[drawable.as_ref()], &view, &style)?;
-    strata::render::save_png(&image, &args.output)?;
+    super::save_picture(&image, style.background, &args.output)?;
     let drawn = format!("{} triangles", mesh.triangle_count());
     report(
         args,
@@ -457,7 +457,7 @@ fn draw_in_parts(
         Ok(None)
     })?;
     bar.finish_and_clear();
-    strata::render::save_png(&image, &args.output)?;
+    super::save_picture(&image, style.background, &args.output)?;
     let what = format!(
         "{triangles} triangles (of {} in the scene) in {drawn} of {count} parts",
         extent.triangles
