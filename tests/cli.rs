@@ -1,5 +1,19 @@
 //! `strata` as a shell runs it: piped into a reader that stops early.
 
+/// Runs the `strata` binary with `args`: whether it succeeded, what it said on
+/// standard error and what it printed.
+fn strata(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .output()
+        .expect("the strata binary runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
+}
+
 /// `strata info ... | head` stops strata as it stops `cat`, by SIGPIPE, not with a
 /// panic and a backtrace on standard error.
 #[cfg(unix)]
@@ -34,8 +48,6 @@ fn a_closed_output_pipe_ends_strata_quietly() {
 /// `render`, `info` and `lod build`, each naming the skipped file.
 #[test]
 fn grid_only_reads_a_deck_whose_property_include_is_missing() {
-    use std::process::Command;
-
     let dir = tempfile::tempdir().expect("a temporary folder");
     let sample = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl");
     let deck = dir.path().join("model.grdecl");
@@ -50,18 +62,6 @@ fn grid_only_reads_a_deck_whose_property_include_is_missing() {
     let deck = deck.to_str().expect("a UTF-8 path");
     let png = dir.path().join("model.png");
     let lod = dir.path().join("model.lod");
-    let strata = |args: &[&str]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_strata"))
-            .args(args)
-            .output()
-            .expect("the strata binary runs");
-        let said = String::from_utf8_lossy(&out.stderr).into_owned();
-        (
-            out.status.success(),
-            said,
-            String::from_utf8_lossy(&out.stdout).into_owned(),
-        )
-    };
     let (ok, said, _) = strata(&["info", deck]);
     assert!(!ok, "{said}");
     assert!(
@@ -256,7 +256,6 @@ fn work_beyond_the_memory_there_is_is_refused_before_it_starts() {
 /// model's picture gets no such note.
 #[test]
 fn a_picture_of_nothing_but_the_background_says_why() {
-    use std::process::Command;
     use strata::grid::synth::{SynthParams, generate};
 
     let dir = tempfile::tempdir().expect("a temporary folder");
@@ -279,13 +278,9 @@ fn a_picture_of_nothing_but_the_background_says_why() {
     let stray = dir.path().join("stray.grdecl");
     strata::grid::save(&grid, &stray).expect("written");
 
-    let strata = |args: &[&str]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_strata"))
-            .args(args)
-            .output()
-            .expect("the strata binary runs");
-        let said = String::from_utf8_lossy(&out.stderr).into_owned();
-        assert!(out.status.success(), "{args:?}: {said}");
+    let succeed = |args: &[&str]| {
+        let (ok, said, _) = strata(args);
+        assert!(ok, "{args:?}: {said}");
         said
     };
     let path = |p: &std::path::Path| p.to_str().expect("a UTF-8 path").to_string();
@@ -297,18 +292,18 @@ fn a_picture_of_nothing_but_the_background_says_why() {
     };
     let note = "the background alone, no part of the model covers a pixel";
 
-    let said = strata(&["render", &sound, "--size", "200x150", "-o", &png]);
+    let said = succeed(&["render", &sound, "--size", "200x150", "-o", &png]);
     assert!(!said.contains(note) && !blank(), "{said}");
     for options in [&[][..], &["--part-cells", "100"]] {
         let mut args = vec!["render", &stray, "--size", "200x150", "-o", &png];
         args.extend_from_slice(options);
-        let said = strata(&args);
+        let said = succeed(&args);
         assert!(said.contains(note) && blank(), "{options:?}: {said}");
     }
     let lod = path(&dir.path().join("stray.lod"));
-    strata(&["lod", "build", &stray, "-o", &lod]);
+    succeed(&["lod", "build", &stray, "-o", &lod]);
     for wire in ["global", "dist"] {
-        let said = strata(&[
+        let said = succeed(&[
             "lod", "view", &lod, "--wire", wire, "--size", "200x150", "-o", &png,
         ]);
         assert!(said.contains(note) && blank(), "{wire}: {said}");
