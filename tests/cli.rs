@@ -291,17 +291,38 @@ fn a_picture_of_nothing_but_the_background_says_why() {
         picture.pixels().all(|p| p.0 == [255; 4])
     };
     let note = "the background alone, no part of the model covers a pixel";
+    // The cell to mend is named (1-based), with its corner and pillar.
+    let named = format!(
+        "cell {},{},1 has a corner (number 0, on pillar {},{}) at x",
+        i + 1,
+        j + 1,
+        i + 1,
+        j + 1
+    );
+    let (ok, _, listed) = strata(&["info", &sound]);
+    assert!(ok && !listed.contains("far outside"), "{listed}");
+    let (ok, _, listed) = strata(&["info", &stray]);
+    assert!(ok && listed.contains(&named), "{listed}");
+    assert!(
+        listed.contains("depth 99999997952.00, far outside"),
+        "{listed}"
+    );
 
     let said = succeed(&["render", &sound, "--size", "200x150", "-o", &png]);
-    assert!(!said.contains(note) && !blank(), "{said}");
+    assert!(
+        !said.contains(note) && !said.contains("far outside") && !blank(),
+        "{said}"
+    );
     for options in [&[][..], &["--part-cells", "100"]] {
         let mut args = vec!["render", &stray, "--size", "200x150", "-o", &png];
         args.extend_from_slice(options);
         let said = succeed(&args);
         assert!(said.contains(note) && blank(), "{options:?}: {said}");
+        assert!(said.contains(&named), "{options:?}: {said}");
     }
     let lod = path(&dir.path().join("stray.lod"));
-    succeed(&["lod", "build", &stray, "-o", &lod]);
+    let said = succeed(&["lod", "build", &stray, "-o", &lod]);
+    assert!(said.contains(&named), "{said}");
     for wire in ["global", "dist"] {
         let said = succeed(&[
             "lod", "view", &lod, "--wire", wire, "--size", "200x150", "-o", &png,

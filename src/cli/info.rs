@@ -213,6 +213,12 @@ pub fn run(args: &InfoArgs) -> Result<()> {
 }
 
 fn model_info(grid: &CornerPointGrid, file: String, json: bool) -> Result<()> {
+    let warnings = grid
+        .warnings
+        .iter()
+        .cloned()
+        .chain(super::stray_warning(grid, Path::new(&file)))
+        .collect();
     let info = ModelInfo {
         file,
         dims: grid.dims(),
@@ -232,7 +238,7 @@ fn model_info(grid: &CornerPointGrid, file: String, json: bool) -> Result<()> {
             })
             .collect(),
         fault_split_fraction: grid.fault_split_fraction(),
-        warnings: grid.warnings.clone(),
+        warnings,
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&info)?);

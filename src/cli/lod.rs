@@ -103,9 +103,9 @@ fn build(args: &BuildArgs) -> Result<()> {
         .chain(args.read.props.iter().map(PathBuf::as_path))
         .collect();
     super::refuse_overwriting(&args.output, &inputs)?;
-    let (_, grid) = super::open_model(Some(&args.model), &args.read)
+    let (path, grid) = super::open_model(Some(&args.model), &args.read)
         .with_context(|| format!("reading {}", args.model.display()))?;
-    super::warn_skipped(&grid);
+    super::warn_about(&grid, &path);
     let read = start.elapsed().as_secs_f64();
     let property = if args.no_property {
         None

@@ -67,12 +67,51 @@ pub fn open_model(model: Option<&Path>, read: &ReadArgs) -> Result<(PathBuf, Cor
     Ok((path, grid))
 }
 
-/// Prints what reading `grid` skipped (missing INCLUDE files, unreadable results, local
-/// grids) on standard error, for the commands whose output is a picture or a file.
-pub fn warn_skipped(grid: &CornerPointGrid) {
-    for warning in &grid.warnings {
+/// Prints what reading `grid` (from `path`) skipped (missing INCLUDE files, unreadable
+/// results, local grids) and its stray corners ([`stray_warning`]) on standard error,
+/// for the commands whose output is a picture or a file.
+pub fn warn_about(grid: &CornerPointGrid, path: &Path) {
+    for warning in grid
+        .warnings
+        .iter()
+        .cloned()
+        .chain(stray_warning(grid, path))
+    {
         eprintln!("strata: warning: {warning}");
     }
+}
+
+/// Names the corner of `grid` (read from `path`) farthest outside the rest of the
+/// model, when some lie far outside it ([`CornerPointGrid::stray_corners`]): one stray
+/// depth is enough to make the model a speck in every view, and this says which cell
+/// to mend.
+pub fn stray_warning(grid: &CornerPointGrid, path: &Path) -> Option<String> {
+    let stray = grid.stray_corners()?;
+    let w = &stray.worst;
+    let [x, y, depth] = w.map;
+    let (lo, hi) = (stray.rest.min, stray.rest.max);
+    Some(format!(
+        "{}: cell {},{},{} has a corner (number {}, on pillar {},{}) at x {x:.2}, y {y:.2}, \
+         depth {depth:.2}, far outside the rest of the model (x {:.2} .. {:.2}, y {:.2} .. \
+         {:.2}, depth {:.2} .. {:.2}), and every view frames it, so the rest may be a speck; \
+         {} pillar(s) have corners that far out (over {} interquartile ranges past the \
+         quartiles)",
+        path.display(),
+        w.cell[0] + 1,
+        w.cell[1] + 1,
+        w.cell[2] + 1,
+        w.corner,
+        w.pillar[0] + 1,
+        w.pillar[1] + 1,
+        lo[0],
+        hi[0],
+        lo[1],
+        hi[1],
+        lo[2],
+        hi[2],
+        stray.pillars,
+        strata::grid::STRAY_SPREADS,
+    ))
 }
 
 /// Adds to `grid`, read from `path`, the per-cell arrays of each property deck in

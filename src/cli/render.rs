@@ -115,8 +115,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(_) => decimated_wire(args.style.wire, "--lod")?,
         None => args.style.wire,
     };
-    let (_, grid) = super::open_model(args.model.as_deref(), &args.read)?;
-    super::warn_skipped(&grid);
+    let (path, grid) = super::open_model(args.model.as_deref(), &args.read)?;
+    super::warn_about(&grid, &path);
     let layers = args.drawn.range(grid.dims().nz)?;
     let property = if args.no_property {
         None

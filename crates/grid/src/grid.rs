@@ -407,27 +407,15 @@ impl CornerPointGrid {
     /// the corners'; a rotation adds x and y, whose sum may differ by a rounding.
     pub fn bounding_box(&self) -> BoundingBox {
         let any_active = self.actnum.iter().any(|&a| a);
-        let Dims { nx, ny, nz } = self.dims;
-        (0..=ny)
+        (0..=self.dims.ny)
             .into_par_iter()
             .map(|pj| {
-                let mut depths = vec![(f32::INFINITY, f32::NEG_INFINITY); nx + 1];
-                // The cells on either side of the row of pillars.
-                let rows = pj.saturating_sub(1)..(pj + 1).min(ny);
-                for k in 0..nz {
-                    for j in rows.clone() {
-                        let dj = pj - j;
-                        for i in (0..nx).filter(|&i| !any_active || self.actnum[[k, j, i]]) {
-                            for (di, dk) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                                let z = self.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
-                                let (lo, hi) = &mut depths[i + di];
-                                (*lo, *hi) = (lo.min(z), hi.max(z));
-                            }
-                        }
-                    }
-                }
                 let mut b = BoundingBox::empty();
-                for (pi, (lo, hi)) in depths.into_iter().enumerate() {
+                for (pi, (lo, hi)) in self
+                    .pillar_row_depths(pj, any_active)
+                    .into_iter()
+                    .enumerate()
+                {
                     for z in [lo, hi].into_iter().filter(|z| z.is_finite()) {
                         b.include(self.to_map(self.point_on_pillar(pi, pj, f64::from(z))));
                     }
@@ -435,6 +423,133 @@ impl CornerPointGrid {
                 b
             })
             .reduce(BoundingBox::empty, |a, b| a.union(&b))
+    }
+
+    /// The shallowest and deepest corner depth on each pillar of row `pj` over the
+    /// active cells (over all cells when `any_active` is false); infinite where no
+    /// such cell touches the pillar.
+    fn pillar_row_depths(&self, pj: usize, any_active: bool) -> Vec<(f32, f32)> {
+        let Dims { nx, ny, nz } = self.dims;
+        let mut depths = vec![(f32::INFINITY, f32::NEG_INFINITY); nx + 1];
+        // The cells on either side of the row of pillars.
+        let rows = pj.saturating_sub(1)..(pj + 1).min(ny);
+        for k in 0..nz {
+            for j in rows.clone() {
+                let dj = pj - j;
+                for i in (0..nx).filter(|&i| !any_active || self.actnum[[k, j, i]]) {
+                    for (di, dk) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                        let z = self.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
+                        let (lo, hi) = &mut depths[i + di];
+                        (*lo, *hi) = (lo.min(z), hi.max(z));
+                    }
+                }
+            }
+        }
+        depths
+    }
+
+    /// Corners of the active cells that lie far outside where the rest of the model
+    /// does, `None` when there are none: a stray depth or pillar coordinate stretches
+    /// the extent every view frames until the model is a speck in it.
+    ///
+    /// Looked for among the points [`Self::bounding_box`] is made of, each pillar's
+    /// shallowest and deepest corner: a point is stray when, along x, y or depth, it
+    /// lies more than [`STRAY_SPREADS`] interquartile ranges of those points beyond
+    /// their quartiles. An axis whose points are mostly one value (an interquartile
+    /// range of 0) is not judged.
+    pub fn stray_corners(&self) -> Option<StrayCorners> {
+        let any_active = self.actnum.iter().any(|&a| a);
+        let ends: Vec<PillarEnd> = (0..=self.dims.ny)
+            .into_par_iter()
+            .flat_map_iter(|pj| {
+                let row = self.pillar_row_depths(pj, any_active);
+                row.into_iter().enumerate().flat_map(move |(pi, (lo, hi))| {
+                    [lo, hi]
+                        .into_iter()
+                        .filter(|z| z.is_finite())
+                        .map(move |z| {
+                            let map = self.to_map(self.point_on_pillar(pi, pj, f64::from(z)));
+                            PillarEnd {
+                                pillar: [pi, pj],
+                                depth: z,
+                                map,
+                            }
+                        })
+                })
+            })
+            .collect();
+        let limits: [Option<[f64; 3]>; 3] = std::array::from_fn(|axis| {
+            let mut values: Vec<f64> = ends.iter().map(|e| e.map[axis]).collect();
+            let q1 = quantile(&mut values, 0.25)?;
+            let q3 = quantile(&mut values, 0.75)?;
+            let spread = q3 - q1;
+            (spread > 0.0).then_some([
+                q1 - STRAY_SPREADS * spread,
+                q3 + STRAY_SPREADS * spread,
+                spread,
+            ])
+        });
+        // How many interquartile ranges past its limits a point lies, over the axes.
+        let excess = |p: &[f64; 3]| {
+            (0..3)
+                .filter_map(|axis| {
+                    let [lo, hi, spread] = limits[axis]?;
+                    Some(((lo - p[axis]).max(p[axis] - hi) / spread).max(0.0))
+                })
+                .fold(0.0, f64::max)
+        };
+        let mut pillars = Vec::new();
+        let mut rest = BoundingBox::empty();
+        let mut worst: Option<(f64, &PillarEnd)> = None;
+        for end in &ends {
+            let e = excess(&end.map);
+            if e > 0.0 {
+                pillars.push(end.pillar);
+                if worst.is_none_or(|(w, _)| e > w) {
+                    worst = Some((e, end));
+                }
+            } else {
+                rest.include(end.map);
+            }
+        }
+        let (_, end) = worst?;
+        pillars.dedup();
+        let cell = self.cell_at_pillar_depth(end.pillar, end.depth, any_active)?;
+        Some(StrayCorners {
+            pillars: pillars.len(),
+            worst: StrayCorner {
+                pillar: end.pillar,
+                cell: [cell[0], cell[1], cell[2]],
+                corner: cell[3],
+                map: end.map,
+            },
+            rest,
+        })
+    }
+
+    /// An active cell (any cell when `any_active` is false) with a corner at `depth`
+    /// on `pillar`, as `[i, j, k, corner]`.
+    fn cell_at_pillar_depth(
+        &self,
+        [pi, pj]: [usize; 2],
+        depth: f32,
+        any_active: bool,
+    ) -> Option<[usize; 4]> {
+        let Dims { nx, ny, nz } = self.dims;
+        (0..nz).find_map(|k| {
+            (pj.saturating_sub(1)..(pj + 1).min(ny)).find_map(|j| {
+                (pi.saturating_sub(1)..(pi + 1).min(nx))
+                    .filter(|&i| !any_active || self.actnum[[k, j, i]])
+                    .find_map(|i| {
+                        let (di, dj) = (pi - i, pj - j);
+                        [0, 4]
+                            .into_iter()
+                            .map(|top_or_bottom| di + 2 * dj + top_or_bottom)
+                            .find(|&c| self.corner_depth(i, j, k, c) == depth)
+                            .map(|c| [i, j, k, c])
+                    })
+            })
+        })
     }
 
     /// Fault detection along the i direction: does the face between `(i, j, k)` and
@@ -583,6 +698,50 @@ impl BoundingBox {
     }
 }
 
+/// How far beyond its quartiles, in interquartile ranges, a corner of a model is
+/// stray. The real models in the project's data reach at most 3.3 (Reek's depths);
+/// past 10 the rest of the model fills at most a sixth of the view along that axis.
+pub const STRAY_SPREADS: f64 = 10.0;
+
+/// What [`CornerPointGrid::stray_corners`] finds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StrayCorners {
+    /// Pillars with a stray corner.
+    pub pillars: usize,
+    /// The corner farthest out.
+    pub worst: StrayCorner,
+    /// The box of the model without its stray corners, in map coordinates.
+    pub rest: BoundingBox,
+}
+
+/// One stray corner.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StrayCorner {
+    /// Its pillar, `(pi, pj)` from 0.
+    pub pillar: [usize; 2],
+    /// A cell with this corner, `(i, j, k)` from 0.
+    pub cell: [usize; 3],
+    /// The corner's number in that cell (Eclipse order).
+    pub corner: usize,
+    /// Map (x, y, depth).
+    pub map: [f64; 3],
+}
+
+/// A pillar's shallowest or deepest corner.
+struct PillarEnd {
+    pillar: [usize; 2],
+    depth: f32,
+    map: [f64; 3],
+}
+
+/// The `fraction` quantile of `values` (reordered), the nearest rank below; `None`
+/// when empty.
+fn quantile(values: &mut [f64], fraction: f64) -> Option<f64> {
+    let last = values.len().checked_sub(1)?;
+    let rank = (last as f64 * fraction) as usize;
+    Some(*values.select_nth_unstable_by(rank, f64::total_cmp).1)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -662,6 +821,56 @@ mod tests {
         g.mapaxes = None;
         g.actnum.fill(false);
         assert_eq!(g.bounding_box(), of_corners(&g, false));
+    }
+
+    #[test]
+    fn a_stray_depth_or_pillar_is_found_and_named_and_the_rest_is_boxed_without_it() {
+        let mut g = crate::synth::generate(&crate::synth::SynthParams {
+            nx: 30,
+            ny: 20,
+            nz: 4,
+            faults: 3,
+            seed: 5,
+        })
+        .unwrap();
+        for (n, a) in g.actnum.iter_mut().enumerate() {
+            *a &= n % 7 != 3;
+        }
+        assert_eq!(g.stray_corners(), None, "a sound model has none");
+        let whole = g.bounding_box();
+
+        // One deep corner of an active cell: corner 5 (di 1, dj 0, bottom) of cell
+        // (12, 7, 2), on pillar (13, 7).
+        let (i, j, k) = (12, 7, 2);
+        assert!(g.is_active(i, j, k));
+        g.zcorn[[2 * k + 1, 2 * j, 2 * i + 1]] = 1e11;
+        let found = g.stray_corners().expect("the stray depth is found");
+        assert_eq!(found.pillars, 1);
+        assert_eq!(found.worst.pillar, [13, 7]);
+        assert_eq!(found.worst.cell, [i, j, k]);
+        assert_eq!(found.worst.corner, 5);
+        assert_eq!(found.worst.map[2], f64::from(1e11f32));
+        assert_eq!(g.bounding_box().max[2], f64::from(1e11f32));
+        for a in 0..3 {
+            assert!(found.rest.min[a] >= whole.min[a] && found.rest.max[a] <= whole.max[a]);
+        }
+        assert!(found.rest.max[2] - found.rest.min[2] > 0.5 * (whole.max[2] - whole.min[2]));
+
+        // A corner of an inactive cell (ZCORN holds each cell's own) is not part of
+        // the model drawn.
+        g.actnum[[k, j, i]] = false;
+        assert_eq!(g.stray_corners(), None, "only an inactive cell has it");
+        g.actnum[[k, j, i]] = true;
+        g.zcorn[[2 * k + 1, 2 * j, 2 * i + 1]] = g.zcorn[[2 * k + 1, 2 * j, 2 * i]];
+
+        // A pillar thrown far east, with a rotated map frame: x and y both stray.
+        g.mapaxes = Some(MapAxes::from_values([0.0, 1.0, 0.0, 0.0, 1.0, 0.0]));
+        assert_eq!(g.stray_corners(), None);
+        g.coord[[4, 9, 0]] += 1e7;
+        g.coord[[4, 9, 3]] += 1e7;
+        let found = g.stray_corners().expect("the stray pillar is found");
+        assert_eq!((found.pillars, found.worst.pillar), (1, [9, 4]));
+        assert!(found.worst.map[0] > 1e6, "{:?}", found.worst);
     }
 
     #[test]

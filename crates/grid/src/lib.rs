@@ -18,7 +18,10 @@ pub mod terrain;
 use std::path::Path;
 
 pub use error::{Error, Result};
-pub use grid::{BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, Units};
+pub use grid::{
+    BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, STRAY_SPREADS, StrayCorner,
+    StrayCorners, Units,
+};
 pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;

@@ -8,7 +8,8 @@
 //! `xtgeo.create_box_grid`). Every model is checked on **every** cell, SPE10 model 2's
 //! 1.1 M included: dimensions, ACTNUM cell by cell and active count (and the counts in
 //! the data folder's README), bounding box, and the 8 map-coordinate corners of each
-//! cell to 1e-3 of the model's extent (its active bounding-box diagonal). The stored
+//! cell to 1e-3 of the model's extent (its active bounding-box diagonal), and that no
+//! corner counts as stray ([`CornerPointGrid::stray_corners`]). The stored
 //! corners are quantized to 1/65535 of the bounding box per axis, below 1e-5 of the
 //! extent; the resdata reading holds coordinates in float32 as Eclipse does, a few 1e-5
 //! of the extent for text decks in UTM coordinates. Each assertion message gives the
@@ -289,6 +290,8 @@ fn check_model(data: &Path, name: &str) -> CornerPointGrid {
         model.bbox_min,
         model.bbox_max
     );
+    // The stray-corner warning's threshold holds on every real model.
+    assert_eq!(grid.stray_corners(), None, "{file}: no corner is stray");
     grid
 }
 
