@@ -328,5 +328,6 @@ fn a_picture_of_nothing_but_the_background_says_why() {
             "lod", "view", &lod, "--wire", wire, "--size", "200x150", "-o", &png,
         ]);
         assert!(said.contains(note) && blank(), "{wire}: {said}");
+        assert!(!said.contains("hidden behind"), "{wire}: {said}");
     }
 }

@@ -418,13 +418,12 @@ fn view(args: &ViewArgs) -> Result<()> {
             ),
             None => String::new(),
         },
-        if chosen.len() < chosen_count {
-            format!(
-                "; {} of the {chosen_count} nodes in view drawn, the others hidden behind them",
-                chosen.len()
-            )
-        } else {
-            String::new()
+        match chosen.len() {
+            drawn if drawn == chosen_count => String::new(),
+            0 => format!("; none of the {chosen_count} nodes in view covers a pixel"),
+            drawn => format!(
+                "; {drawn} of the {chosen_count} nodes in view drawn, the others hidden behind them"
+            ),
         }
     );
     Ok(())
