@@ -768,11 +768,8 @@ mod tests {
         CornerPointGrid::from_arrays(dims, coord, zcorn, None).unwrap()
     }
 
-    #[test]
-    fn the_bounding_box_is_that_of_every_active_cells_corners() {
-        // Leaning pillars, faults, inactive cells and a rotated map frame: the box
-        // from each pillar's shallowest and deepest corner is, bit for bit, the box
-        // of all the active cells' corners; with no active cell, of all cells'.
+    /// A 30 x 20 x 4 faulted synthetic grid with every seventh cell inactive.
+    fn faulted_with_holes() -> CornerPointGrid {
         let mut g = crate::synth::generate(&crate::synth::SynthParams {
             nx: 30,
             ny: 20,
@@ -781,10 +778,19 @@ mod tests {
             seed: 5,
         })
         .unwrap();
-        let Dims { nx, ny, nz } = g.dims();
         for (n, a) in g.actnum.iter_mut().enumerate() {
             *a &= n % 7 != 3;
         }
+        g
+    }
+
+    #[test]
+    fn the_bounding_box_is_that_of_every_active_cells_corners() {
+        // Leaning pillars, faults, inactive cells and a rotated map frame: the box
+        // from each pillar's shallowest and deepest corner is, bit for bit, the box
+        // of all the active cells' corners; with no active cell, of all cells'.
+        let mut g = faulted_with_holes();
+        let Dims { nx, ny, nz } = g.dims();
         let of_corners = |g: &CornerPointGrid, active_only: bool| {
             let mut b = BoundingBox::empty();
             for (k, j, i) in
@@ -825,17 +831,7 @@ mod tests {
 
     #[test]
     fn a_stray_depth_or_pillar_is_found_and_named_and_the_rest_is_boxed_without_it() {
-        let mut g = crate::synth::generate(&crate::synth::SynthParams {
-            nx: 30,
-            ny: 20,
-            nz: 4,
-            faults: 3,
-            seed: 5,
-        })
-        .unwrap();
-        for (n, a) in g.actnum.iter_mut().enumerate() {
-            *a &= n % 7 != 3;
-        }
+        let mut g = faulted_with_holes();
         assert_eq!(g.stray_corners(), None, "a sound model has none");
         let whole = g.bounding_box();
 
