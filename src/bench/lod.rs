@@ -59,9 +59,11 @@
 //! on the real models and on generated faulted layers of about 0.5, 2 and 8 million
 //! triangles, all in one thread (so per core; decimation itself is sequential) and ours
 //! also on all cores across layer surfaces; CPU seconds beside wall seconds, since the
-//! machine may be shared. An input that takes under half a CPU second runs again
-//! until it has taken that much, and its row gives the mean per run; every input runs
-//! once untimed before its rows, as warm-up. Our stages
+//! machine may be shared, and each row's rate per CPU second over meshopt_simplify's
+//! on the same input (the ratio a slower or busier machine changes least). An input
+//! that takes under [`MIN_CPU_SECONDS`] runs again until it has taken that much, and
+//! its row gives the mean per run; every input runs once untimed before its rows, as
+//! warm-up. Our stages
 //! (reference, setup, evaluating, collapsing, the final lift) are timed for
 //! profiling. Peak memory is the process's VmHWM at the end.
 
@@ -231,6 +233,9 @@ pub struct Speed {
     pub triangles_per_s: f64,
     /// Input triangles per CPU second: per core.
     pub triangles_per_cpu_s: f64,
+    /// `triangles_per_cpu_s` over meshopt_simplify's, one thread, on the same input in
+    /// the same run: what a shared or slower machine changes least.
+    pub per_cpu_s_over_meshopt_simplify: Option<f64>,
     /// Our stages, seconds summed over the layer surfaces (ours only).
     pub stages: Option<Stages>,
 }
@@ -963,6 +968,7 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                 system_seconds: system,
                 triangles_per_s: triangles as f64 / seconds,
                 triangles_per_cpu_s: triangles as f64 / cpu,
+                per_cpu_s_over_meshopt_simplify: None,
                 stages,
             };
             eprintln!(
@@ -979,6 +985,17 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
                 row.triangles_per_cpu_s / 1e6
             );
             speed.push(row);
+        }
+        let simplify = Simplifier::Simplify.name();
+        let rows: Vec<&mut Speed> = speed.iter_mut().filter(|s| s.input == *label).collect();
+        if let Some(theirs) = rows
+            .iter()
+            .find(|s| s.simplifier == simplify && s.threads == 1)
+            .map(|s| s.triangles_per_cpu_s)
+        {
+            for row in rows {
+                row.per_cpu_s_over_meshopt_simplify = Some(row.triangles_per_cpu_s / theirs);
+            }
         }
     }
 
@@ -1342,7 +1359,7 @@ pub fn print_table(report: &LodReport) {
     }
     println!();
     println!(
-        "{:<24} {:>9} {:<20} {:>7} {:>5} {:>9} {:>9} {:>9} {:>9} {:>11}",
+        "{:<24} {:>9} {:<20} {:>7} {:>5} {:>9} {:>9} {:>9} {:>9} {:>11} {:>10}",
         "input",
         "triangles",
         "simplifier",
@@ -1352,11 +1369,12 @@ pub fn print_table(report: &LodReport) {
         "CPU s",
         "system s",
         "M tri/s",
-        "M tri/CPU s"
+        "M tri/CPU s",
+        "x simplify"
     );
     for s in &report.speed {
         println!(
-            "{:<24} {:>9} {:<20} {:>7} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.2} {:>11.2}",
+            "{:<24} {:>9} {:<20} {:>7} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>9.2} {:>11.2} {:>10}",
             s.input,
             s.triangles,
             s.simplifier,
@@ -1366,7 +1384,9 @@ pub fn print_table(report: &LodReport) {
             s.cpu_seconds,
             s.system_seconds,
             s.triangles_per_s / 1e6,
-            s.triangles_per_cpu_s / 1e6
+            s.triangles_per_cpu_s / 1e6,
+            s.per_cpu_s_over_meshopt_simplify
+                .map_or_else(String::new, |r| format!("{r:.2}"))
         );
         if let Some(st) = &s.stages {
             println!(
