@@ -19,8 +19,8 @@ use std::path::Path;
 
 pub use error::{Error, Result};
 pub use grid::{
-    BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, STRAY_SPREADS, StrayCorner,
-    StrayCorners, Units,
+    BoundingBox, CornerPointGrid, Dims, MapAxes, ReportStep, STRAY_QUARTILE_SAMPLES, STRAY_SPREADS,
+    StrayCorner, StrayCorners, Units,
 };
 pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
