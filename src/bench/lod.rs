@@ -34,7 +34,7 @@
 //!
 //! `strata` is what strata draws with (`strata_lod::decimate_chosen`): ours, fitted
 //! to the grid lines (`strata_lod::fit`) where the budget is under 2.5 times its
-//! outline bound, or, on a layer surface whose budget is below that bound,
+//! outline bound, or, on a layer surface whose budget is under 1.5 times that bound,
 //! meshopt_simplify's result fitted to them (the rows count those layers). Ours
 //! alone runs with both placements of new vertices: `strata_alone` (on the original
 //! surface, the default) and `strata_optimal` (at the quadric optimum off it, with the
@@ -193,8 +193,8 @@ pub struct Fidelity {
     /// Share of samples whose texture coordinate the decimated surface no longer
     /// draws (outside its simplified boundary).
     pub outside: f64,
-    /// Layer surfaces that meshoptimizer decimated (`strata` only: below the
-    /// outline bound).
+    /// Layer surfaces that meshoptimizer decimated (`strata` only: under 1.5 times
+    /// the outline bound).
     pub meshopt_layers: usize,
     /// Worst view: F1 of line pixels within one pixel, strict F1, and RMS colour.
     pub f1: f64,
@@ -330,7 +330,8 @@ const MODELS: [Model; 5] = [
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Method {
     /// What strata draws with ([`decimate_chosen`]): ours (fitted to the grid lines
-    /// near the outline bound), or meshopt_simplify's fitted to them below it.
+    /// near the outline bound), or meshopt_simplify's fitted to them below it or just
+    /// above it.
     Strata,
     /// The same, with the budget split evenly among the layer surfaces (each keeps the
     /// same share of its triangles) instead of by how much of each is seen.
