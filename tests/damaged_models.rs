@@ -2,7 +2,8 @@
 //! others, a file cut short), end in an error that names the file, or they read and
 //! go on through what `strata render --sides --lod --stitch` does before it draws:
 //! the layer and side surfaces, each decimated, their shared outlines stitched. Never
-//! a panic. The damage is a fixed sequence, the same on every run.
+//! a panic. So do damaged hierarchy files: an error naming the file, or a view of
+//! them. The damage is a fixed sequence, the same on every run.
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -12,7 +13,7 @@ use strata::grid::eclbin::{write_init, write_unrst};
 use strata::grid::ndarray::Array3;
 use strata::grid::synth::{SynthParams, generate};
 use strata::grid::{CornerPointGrid, ReadOptions, ReportStep, open_with, save};
-use strata::lod::{Options, decimate_chosen, stitch};
+use strata::lod::{BuildOptions, LodFile, Options, ViewPoint, build_file, decimate_chosen, stitch};
 use strata::scene::{SceneOptions, build_stacked_surfaces};
 
 /// A fixed linear congruential sequence.
@@ -314,4 +315,115 @@ fn damaged_eclipse_binaries_are_errors_naming_them_or_read_and_go_through() {
         tally.refused_later,
         tally.errors
     );
+}
+
+/// What a view of a hierarchy reads, `lod view`'s way: the nodes it selects from a far
+/// and a near eye at three pixel errors, their mesh, cells, values and corners, and
+/// every layer's cells and sides and the leaf over a cell. The first error, if any.
+fn view_hierarchy(path: &Path) -> Result<(), String> {
+    let file = LodFile::open(path).map_err(|e| e.to_string())?;
+    let [ni, nj] = file.dims();
+    for eye in [[0.0, -1e5, 1e5], [10.0, 10.0, 5.0]] {
+        for max_pixels in [0.0, 1.0, f32::INFINITY] {
+            let view = ViewPoint {
+                eye,
+                z_scale: 5.0,
+                fov_y_deg: 30.0,
+                height_px: 800,
+                frustum: None,
+            };
+            let chosen = file.select(&view, max_pixels);
+            let mesh = file.selection_mesh(&chosen).map_err(|e| e.to_string())?;
+            mesh.validate().map_err(|e| e.to_string())?;
+            file.selection_cover(&chosen).map_err(|e| e.to_string())?;
+            file.selection_values(&chosen, None)
+                .map_err(|e| e.to_string())?;
+            file.selection_corners(&chosen, None)
+                .map_err(|e| e.to_string())?;
+        }
+    }
+    for l in 0..file.layers().len() {
+        file.layer_cells(l);
+        file.layer_sides(l).map_err(|e| e.to_string())?;
+        file.leaf_of(l, [ni / 2, nj / 2]);
+    }
+    Ok(())
+}
+
+/// Four bytes a hierarchy reader must check wherever they land: counts, offsets and
+/// widths at their extremes, and floats that are not numbers.
+const HIERARCHY_WORDS: [u32; 10] = [
+    0,
+    1,
+    3,
+    0xffff,
+    0x1_0000,
+    0x7fff_ffff,
+    0x8000_0000,
+    0xffff_ffff,
+    0x7fc0_0000,
+    0xff80_0000,
+];
+
+#[test]
+fn a_damaged_hierarchy_is_an_error_naming_it_or_is_viewed() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("model.lod");
+    let options = BuildOptions {
+        tile_cells: 2,
+        ..BuildOptions::default()
+    };
+    build_file(&model(), Some("PORO"), &path, &options).expect("the hierarchy is built");
+    let built = std::fs::read(&path).expect("the hierarchy reads back");
+    assert_eq!(view_hierarchy(&path), Ok(()));
+    // The header (88 bytes) names where the layer table starts; the node table
+    // follows it to the end of the file. Damage lands in the tables as often as in
+    // the header and as in the node data before them.
+    let tables = built
+        .get(64..72)
+        .and_then(|b| b.try_into().ok())
+        .map(u64::from_le_bytes)
+        .expect("a header") as usize;
+    assert!(88 < tables && tables < built.len());
+    let regions = [8..88, 88..tables, tables..built.len()];
+    let mut sequence = Sequence(0x10d);
+    let (mut viewed, mut errors) = (0, 0);
+    for round in 0..600 {
+        let mut damaged = built.clone();
+        for _ in 0..1 + round % 3 {
+            let region = &regions[sequence.below(regions.len())];
+            // A file cut short earlier in the round has less of the region left.
+            let end = region.end.min(damaged.len());
+            if end < region.start + 4 {
+                continue;
+            }
+            let at = region.start + 4 * sequence.below((end - region.start) / 4);
+            match sequence.below(6) {
+                0..=3 => {
+                    let word = HIERARCHY_WORDS[sequence.below(HIERARCHY_WORDS.len())];
+                    damaged[at..at + 4].copy_from_slice(&word.to_le_bytes());
+                }
+                4 => damaged[at] = sequence.next() as u8,
+                _ => damaged.truncate(at),
+            }
+            if damaged.len() < 88 {
+                break;
+            }
+        }
+        std::fs::write(&path, &damaged).expect("the damaged hierarchy is written");
+        let outcome = catch_unwind(AssertUnwindSafe(|| view_hierarchy(&path)))
+            .unwrap_or_else(|_| panic!("round {round}: a stage panicked"));
+        match outcome {
+            Ok(()) => viewed += 1,
+            Err(message) => {
+                assert!(
+                    message.contains("model.lod"),
+                    "round {round}: the error does not name the file: {message}"
+                );
+                errors += 1;
+            }
+        }
+    }
+    // Damaged vertices still draw; damaged tables and indices are refused.
+    assert!(viewed > 0 && errors > 0, "{viewed} viewed, {errors} errors");
 }

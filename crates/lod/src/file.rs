@@ -858,11 +858,7 @@ impl LodFile {
     /// it; a damaged file would otherwise draw a cell twice or not at all.
     fn check_tree(&self) -> Result<()> {
         let nodes = self.nodes();
-        let bad = |i: usize, message: String| Error::Format {
-            path: self.path.clone(),
-            at: self.header.nodes_offset + (NODE_BYTES * i) as u64,
-            message,
-        };
+        let bad = |i: usize, message: String| self.damaged(self.node_record_at(i as u32), message);
         for (l, layer) in self.layers().iter().enumerate() {
             let own = layer.root as usize..(layer.root + layer.node_count) as usize;
             for i in own.clone() {
@@ -979,11 +975,10 @@ impl LodFile {
         let cells: &[[u32; 2]] = bytemuck::cast_slice(&self.map[cells_at..values_at]);
         let values: &[f32] = bytemuck::cast_slice(&self.map[values_at..values_at + 4 * faces]);
         if let Some(&v) = indices.iter().find(|&&v| v as usize >= vertices.len()) {
-            return Err(Error::Format {
-                path: self.path.clone(),
-                at: layer.sides_offset,
-                message: format!("layer {l}: side index {v} of {} vertices", vertices.len()),
-            });
+            return Err(self.damaged(
+                layer.sides_offset,
+                format!("layer {l}: side index {v} of {} vertices", vertices.len()),
+            ));
         }
         let mut mesh = SurfaceMesh::with_origin(self.origin());
         mesh.positions = vertices.iter().map(|v| v.position).collect();
@@ -1036,15 +1031,14 @@ impl LodFile {
         let indices = self.indices(i);
         let base = mesh.vertex_count() as u32;
         if let Some(k) = (0..indices.len()).find(|&k| indices.get(k) as usize >= vertices.len()) {
-            return Err(Error::Format {
-                path: self.path.clone(),
-                at: self.nodes()[i].data_offset,
-                message: format!(
+            return Err(self.damaged(
+                self.nodes()[i].data_offset,
+                format!(
                     "node {i}: index {} of {} vertices",
                     indices.get(k),
                     vertices.len()
                 ),
-            });
+            ));
         }
         let scalars = self.has_scalars();
         if scalars && mesh.scalars.len() < mesh.positions.len() {
@@ -1299,15 +1293,30 @@ impl LodFile {
             .ok_or_else(|| Error::Option(format!("no node {i}")))
     }
 
+    /// The error for damage found at byte `at` of the file once it is open.
+    fn damaged(&self, at: u64, message: String) -> Error {
+        Error::Format {
+            path: self.path.clone(),
+            at,
+            message,
+        }
+    }
+
+    /// Where node `i`'s record is in the file.
+    fn node_record_at(&self, i: u32) -> u64 {
+        self.header.nodes_offset + NODE_BYTES as u64 * u64::from(i)
+    }
+
     /// Node `i` and the box of its cells as a piece of a selection's cover (no bits
     /// yet).
     fn node_box(&self, i: u32) -> Result<(&NodeRecord, CoverPiece)> {
         let n = self.node(i)?;
         let [i0, j0, i1, j1] = n.cells;
         let [Ok(oi), Ok(oj)] = [i0, j0].map(i32::try_from) else {
-            return Err(Error::Option(format!(
-                "node {i}: cells from ({i0}, {j0}) are beyond a cell cover's reach"
-            )));
+            return Err(self.damaged(
+                self.node_record_at(i),
+                format!("node {i}: cells from ({i0}, {j0}) are beyond a cell cover's reach"),
+            ));
         };
         let piece = CoverPiece {
             origin: [oi, oj],
@@ -1354,17 +1363,19 @@ impl LodFile {
             for t in 0..indices.len() / 3 {
                 let tri = [0, 1, 2].map(|c| vertices.get(indices.get(3 * t + c) as usize));
                 let [Some(a), Some(b), Some(c)] = tri else {
-                    return Err(Error::Option(format!(
-                        "node {k}: triangle {t} names a vertex the node does not have"
-                    )));
+                    return Err(self.damaged(
+                        m.data_offset,
+                        format!("node {k}: triangle {t} names a vertex the node does not have"),
+                    ));
                 };
                 let tri = [a, b, c];
                 let slot = cell_corners(tri.map(|v| v.texcoord))
                     .and_then(|(cell, at)| Some((piece.tile_slot(side, cell)?, at)));
                 let Some(((tile, slot), at)) = slot else {
-                    return Err(Error::Option(format!(
-                        "node {k}: triangle {t} is not a half of a cell of node {i}"
-                    )));
+                    return Err(self.damaged(
+                        m.data_offset,
+                        format!("node {k}: triangle {t} is not a half of a cell of node {i}"),
+                    ));
                 };
                 if let Some(start) = starts[tile] {
                     for (v, c) in tri.iter().zip(at) {
