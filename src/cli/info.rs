@@ -217,7 +217,10 @@ fn model_info(grid: &CornerPointGrid, file: String, json: bool) -> Result<()> {
         .warnings
         .iter()
         .cloned()
-        .chain(super::stray_warning(grid, Path::new(&file)))
+        .chain(
+            grid.stray_corners()
+                .map(|s| super::stray_warning(&s, Path::new(&file))),
+        )
         .collect();
     let info = ModelInfo {
         file,

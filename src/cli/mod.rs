@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use clap::Args;
-use strata::grid::{CornerPointGrid, ReadOptions};
+use strata::grid::{CornerPointGrid, ReadOptions, StrayCorners};
 
 pub mod info;
 pub mod lod;
@@ -69,33 +69,36 @@ pub fn open_model(model: Option<&Path>, read: &ReadArgs) -> Result<(PathBuf, Cor
 
 /// Prints what reading `grid` (from `path`) skipped (missing INCLUDE files, unreadable
 /// results, local grids) and its stray corners ([`stray_warning`]) on standard error,
-/// for the commands whose output is a picture or a file.
-pub fn warn_about(grid: &CornerPointGrid, path: &Path) {
+/// for the commands whose output is a picture or a file; the stray corners, which a
+/// picture leaves out of its framing.
+pub fn warn_about(grid: &CornerPointGrid, path: &Path) -> Option<StrayCorners> {
+    let stray = grid.stray_corners();
     for warning in grid
         .warnings
         .iter()
         .cloned()
-        .chain(stray_warning(grid, path))
+        .chain(stray.as_ref().map(|s| stray_warning(s, path)))
     {
         eprintln!("strata: warning: {warning}");
     }
+    stray
 }
 
-/// Names the corner of `grid` (read from `path`) farthest outside the rest of the
-/// model, when some lie far outside it ([`CornerPointGrid::stray_corners`]): one stray
-/// depth is enough to make the model a speck in every view, and this says which cell
-/// to mend.
-pub fn stray_warning(grid: &CornerPointGrid, path: &Path) -> Option<String> {
-    let stray = grid.stray_corners()?;
+/// Names the corner of the model read from `path` farthest outside the rest of it,
+/// of those `stray` found ([`CornerPointGrid::stray_corners`]): one stray depth is
+/// enough to pull a face across every picture (and to make the model a speck in a
+/// hierarchy's view), and this says which cell to mend.
+pub fn stray_warning(stray: &StrayCorners, path: &Path) -> String {
     let w = &stray.worst;
     let [x, y, depth] = w.map;
     let (lo, hi) = (stray.rest.min, stray.rest.max);
-    Some(format!(
+    format!(
         "{}: cell {},{},{} has a corner (number {}, on pillar {},{}) at x {x:.2}, y {y:.2}, \
          depth {depth:.2}, far outside the rest of the model (x {:.2} .. {:.2}, y {:.2} .. \
-         {:.2}, depth {:.2} .. {:.2}), and every view frames it, so the rest may be a speck; \
-         {} pillar(s) have corners that far out (over {} interquartile ranges past the \
-         quartiles)",
+         {:.2}, depth {:.2} .. {:.2}): `render` frames the rest, and the faces that reach \
+         it run out of the picture; a hierarchy's view frames all it stores, where the rest \
+         may be a speck; {} pillar(s) have corners that far out (over {} interquartile \
+         ranges past the quartiles)",
         path.display(),
         w.cell[0] + 1,
         w.cell[1] + 1,
@@ -111,7 +114,7 @@ pub fn stray_warning(grid: &CornerPointGrid, path: &Path) -> Option<String> {
         hi[2],
         stray.pillars,
         strata::grid::STRAY_SPREADS,
-    ))
+    )
 }
 
 /// Adds to `grid`, read from `path`, the per-cell arrays of each property deck in

@@ -6,11 +6,10 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
-use strata::grid::SurfaceMesh;
+use strata::grid::{StrayCorners, SurfaceMesh};
 use strata::render::glam::Vec3;
 use strata::render::{
-    Camera, Coverage, Framing, HiddenLines, IsolineOptions, RangeAdjust, Renderer, Style, View,
-    WireMode,
+    Coverage, HiddenLines, IsolineOptions, RangeAdjust, Renderer, Style, View, WireMode,
 };
 use strata::scene::{self, Part, SceneOptions, build, column_top};
 
@@ -116,7 +115,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         None => args.style.wire,
     };
     let (path, grid) = super::open_model(args.model.as_deref(), &args.read)?;
-    super::warn_about(&grid, &path);
+    let stray = super::warn_about(&grid, &path);
     let layers = args.drawn.range(grid.dims().nz)?;
     let property = if args.no_property {
         None
@@ -147,7 +146,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     if scene::drawn_in_parts(&parts) {
-        return draw_in_parts(args, &grid, &options, parts, start);
+        return draw_in_parts(args, (&grid, stray.as_ref()), &options, parts, start);
     }
     if args.cover && wire != WireMode::Global {
         bail!("--cover draws with --wire global, not {}", wire.name());
@@ -224,16 +223,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             .prepare(&mesh, wire)
             .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
     };
-    let (lo, hi) = mesh.bounds().ok_or_else(|| anyhow!("empty scene"))?;
-    let bounds = (Vec3::from(lo), Vec3::from(hi));
     let (az, el, dist) = args.frame.view;
-    let camera = Camera::fit_points(
-        mesh.positions.iter().map(|&p| Vec3::from(p)),
+    let mut framing = scene::framing_of(
+        stray.as_ref(),
+        mesh.origin,
         args.frame.zscale,
         args.frame.size.0 as f32 / args.frame.size.1 as f32,
         (az, el),
-        dist,
     );
+    framing.add(mesh.positions.iter().map(|&p| Vec3::from(p)));
+    let bounds = framing.bounds().ok_or_else(|| anyhow!("empty scene"))?;
+    let camera = framing.camera(dist);
     let camera = match args.frame.centre {
         Some(cell) => camera.centred_on(Vec3::from(column_top(
             &grid,
@@ -314,10 +314,11 @@ fn report(
 
 /// Draws a scene of more than one run of layers part by part
 /// ([`Renderer::render_parts`]): a first pass over the parts' positions frames the
-/// view as the whole mesh would be framed, a second builds, draws and drops each part.
+/// view as the whole mesh would be framed (without the `stray` corners), a second
+/// builds, draws and drops each part.
 fn draw_in_parts(
     args: &RenderArgs,
-    grid: &strata::grid::CornerPointGrid,
+    (grid, stray): (&strata::grid::CornerPointGrid, Option<&StrayCorners>),
     options: &SceneOptions,
     parts: Vec<Part>,
     start: Instant,
@@ -382,7 +383,7 @@ fn draw_in_parts(
             .with_style(bar_style.clone())
             .with_message(message)
     };
-    let framing = Framing::new(args.frame.zscale, aspect, (az, el));
+    let framing = scene::framing_of(stray, origin, args.frame.zscale, aspect, (az, el));
     let framing_bar = bar(0, "framing: rows of tiles");
     let extent = scene::scene_extent(grid, options, origin, framing, Some(&framing_bar))?;
     framing_bar.finish_and_clear();

@@ -386,10 +386,11 @@ impl CornerPointGrid {
         ]
     }
 
-    /// A display origin for this grid: the centre of its bounding box in display
-    /// coordinates (map x, map y, elevation).
+    /// A display origin for this grid: the centre of its [`Self::view_box`] in display
+    /// coordinates (map x, map y, elevation). Not the bounding box's: a stray depth
+    /// of 1e11 m would move it 5e10 m off the model, where `f32` steps are kilometres.
     pub fn display_origin(&self) -> [f64; 3] {
-        let b = self.bounding_box();
+        let b = self.view_box();
         [
             0.5 * (b.min[0] + b.max[0]),
             0.5 * (b.min[1] + b.max[1]),
@@ -460,11 +461,19 @@ impl CornerPointGrid {
     /// [`STRAY_QUARTILE_SAMPLES`] points evenly spread over the pillars, and only the
     /// pillars' two depths are held (8 bytes a pillar, against ZCORN's 32 a cell).
     pub fn stray_corners(&self) -> Option<StrayCorners> {
-        self.stray_corners_sampling(STRAY_QUARTILE_SAMPLES)
+        self.stray_corners_sampling(STRAY_QUARTILE_SAMPLES).1
     }
 
-    /// [`Self::stray_corners`], the quartiles from at most `samples` points.
-    fn stray_corners_sampling(&self, samples: usize) -> Option<StrayCorners> {
+    /// The box views frame: that of the corners of the active cells but the stray
+    /// ones ([`Self::stray_corners`]), so that a few corrupt values leave the rest of
+    /// the model in view; [`Self::bounding_box`] when there are none.
+    pub fn view_box(&self) -> BoundingBox {
+        self.stray_corners_sampling(STRAY_QUARTILE_SAMPLES).0
+    }
+
+    /// [`Self::view_box`] and [`Self::stray_corners`], the quartiles from at most
+    /// `samples` points.
+    fn stray_corners_sampling(&self, samples: usize) -> (BoundingBox, Option<StrayCorners>) {
         let any_active = self.actnum.iter().any(|&a| a);
         let nx = self.dims.nx;
         let rows: Vec<Vec<(f32, f32)>> = (0..=self.dims.ny)
@@ -530,18 +539,20 @@ impl CornerPointGrid {
                 found
             })
             .reduce(Strays::default, Strays::merge);
-        let (_, pillar, depth, map) = found.worst?;
-        let [i, j, k, corner] = self.cell_at_pillar_depth(pillar, depth, any_active)?;
-        Some(StrayCorners {
-            pillars: found.pillars,
-            worst: StrayCorner {
-                pillar,
-                cell: [i, j, k],
-                corner,
-                map,
-            },
-            rest: found.rest,
-        })
+        let stray = found.worst.and_then(|(_, pillar, depth, map)| {
+            let [i, j, k, corner] = self.cell_at_pillar_depth(pillar, depth, any_active)?;
+            Some(StrayCorners {
+                pillars: found.pillars,
+                worst: StrayCorner {
+                    pillar,
+                    cell: [i, j, k],
+                    corner,
+                    map,
+                },
+                rest: found.rest,
+            })
+        });
+        (found.rest, stray)
     }
 
     /// An active cell (any cell when `any_active` is false) with a corner at `depth`
@@ -881,6 +892,7 @@ mod tests {
         let mut g = faulted_with_holes();
         assert_eq!(g.stray_corners(), None, "a sound model has none");
         let whole = g.bounding_box();
+        assert_eq!(g.view_box(), whole, "a sound model's view frames all of it");
 
         // One deep corner of an active cell: corner 5 (di 1, dj 0, bottom) of cell
         // (12, 7, 2), on pillar (13, 7).
@@ -889,7 +901,7 @@ mod tests {
         g.zcorn[[2 * k + 1, 2 * j, 2 * i + 1]] = 1e11;
         let found = g.stray_corners().expect("the stray depth is found");
         // Quartiles from a tenth of the pillars' ends: the same finding.
-        assert_eq!(g.stray_corners_sampling(130), Some(found.clone()));
+        assert_eq!(g.stray_corners_sampling(130).1, Some(found.clone()));
         assert_eq!(found.pillars, 1);
         assert_eq!(found.worst.pillar, [13, 7]);
         assert_eq!(found.worst.cell, [i, j, k]);
@@ -900,6 +912,11 @@ mod tests {
             assert!(found.rest.min[a] >= whole.min[a] && found.rest.max[a] <= whole.max[a]);
         }
         assert!(found.rest.max[2] - found.rest.min[2] > 0.5 * (whole.max[2] - whole.min[2]));
+        // Views frame the rest, about the sound model's middle.
+        assert_eq!(g.view_box(), found.rest);
+        let middle = |b: &BoundingBox| -0.5 * (b.min[2] + b.max[2]);
+        assert_eq!(g.display_origin()[2], middle(&found.rest));
+        assert!((middle(&found.rest) - middle(&whole)).abs() < 0.5 * (whole.max[2] - whole.min[2]));
 
         // A corner of an inactive cell (ZCORN holds each cell's own) is not part of
         // the model drawn.

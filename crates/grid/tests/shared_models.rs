@@ -292,6 +292,7 @@ fn check_model(data: &Path, name: &str) -> CornerPointGrid {
     );
     // The stray-corner warning's threshold holds on every real model.
     assert_eq!(grid.stray_corners(), None, "{file}: no corner is stray");
+    assert_eq!(grid.view_box(), bbox, "{file}: views frame the whole model");
     grid
 }
 

@@ -173,6 +173,8 @@ pub struct Framing {
     /// Box of the points as given, and of them scaled.
     bounds: (Vec3, Vec3),
     scaled: (Vec3, Vec3),
+    /// Only points in this box (unscaled) are framed ([`Framing::within`]).
+    within: Option<(Vec3, Vec3)>,
 }
 
 impl Framing {
@@ -199,6 +201,18 @@ impl Framing {
             reach: [f32::NEG_INFINITY; 4],
             bounds: empty,
             scaled: empty,
+            within: None,
+        }
+    }
+
+    /// Frames only the points in the box `[min, max]` (unscaled display frame), and
+    /// leaves the others out of the camera's fit and of [`Framing::bounds`]: a model's
+    /// stray corners then run out of the picture (and past the far plane) instead of
+    /// shrinking the rest of it to a speck.
+    pub fn within(self, min: Vec3, max: Vec3) -> Self {
+        Framing {
+            within: Some((min, max)),
+            ..self
         }
     }
 
@@ -206,6 +220,11 @@ impl Framing {
     pub fn add(&mut self, points: impl IntoIterator<Item = Vec3>) {
         let scale = Vec3::new(1.0, 1.0, self.z_scale);
         for p in points {
+            if let Some((lo, hi)) = self.within
+                && !(p.cmpge(lo).all() && p.cmple(hi).all())
+            {
+                continue;
+            }
             let q = p * scale;
             self.bounds = (self.bounds.0.min(p), self.bounds.1.max(p));
             self.scaled = (self.scaled.0.min(q), self.scaled.1.max(q));
@@ -276,6 +295,28 @@ mod tests {
             .view_proj(1.0, 1.0, 20.0)
             .project_point3(Vec3::new(0.0, 1.0, 0.0));
         assert!(ndc.y > 0.0 && ndc.x.abs() < 1e-4);
+    }
+
+    #[test]
+    fn framing_within_a_box_leaves_the_points_outside_it_out() {
+        let model = [Vec3::new(0.0, 0.0, -80.0), Vec3::new(2000.0, 1000.0, 0.0)];
+        let stray = Vec3::new(500.0, 500.0, -1e10);
+        let framed = |framing: Framing| {
+            let mut framing = framing;
+            framing.add(model.into_iter().chain([stray]));
+            (framing.camera(1.0), framing.bounds())
+        };
+        let plain = Framing::new(5.0, 1.5, (30.0, 35.0));
+        let mut alone = plain.clone();
+        alone.add(model);
+        let (camera, bounds) = framed(plain.clone().within(model[0] - 1.0, model[1] + 1.0));
+        assert_eq!(bounds, Some((model[0], model[1])));
+        let want = alone.camera(1.0);
+        assert!((camera.eye - want.eye).length() < 1e-3 && camera.target == want.target);
+        // Without the box, the stray point takes the view.
+        let (camera, bounds) = framed(plain);
+        assert_eq!(bounds.map(|b| b.0.z), Some(stray.z));
+        assert!((camera.eye - want.eye).length() > 1e6);
     }
 
     #[test]
