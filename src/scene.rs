@@ -6,7 +6,7 @@ use std::ops::Range;
 use anyhow::{Result, bail};
 use rayon::prelude::*;
 use strata_grid::{
-    Columns, CornerPointGrid, Dims, Face, StrayCorners, SurfaceMesh, has_faces, layer_surface_in,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, has_faces, layer_surface_in,
     layer_surfaces_in, open_sides, side_face_corners, side_surfaces_among, visit_row_faces,
 };
 use strata_render::glam::Vec3;
@@ -91,27 +91,22 @@ pub fn nothing_to_draw(grid: &CornerPointGrid, options: &SceneOptions) -> anyhow
     )
 }
 
-/// Framing for a picture of `aspect` (width / height) of a model's surfaces in the
-/// display frame of `origin`, seen from `view` (azimuth, elevation) under vertical
-/// exaggeration `z_scale`. When the model has `stray` corners
-/// ([`CornerPointGrid::stray_corners`]), only points in the box of the rest are
-/// framed, that box widened by a hundredth of its size on each axis so that rounding
-/// to `f32` keeps the corners on its faces: the faces that reach a stray corner run
-/// out of the picture and the rest of the model fills it.
+/// Framing for a picture of `aspect` (width / height) seen from `view` (azimuth,
+/// elevation) under vertical exaggeration `z_scale`. With `framed`, the box (display
+/// frame) of a model's corners but its stray ones ([`CornerPointGrid::stray_corners`]),
+/// only points in that box are framed, widened by a hundredth of its size on each axis
+/// so that rounding keeps the corners on its faces: the faces that reach a stray corner
+/// run out of the picture and the rest of the model fills it.
 pub fn framing_of(
-    stray: Option<&StrayCorners>,
-    origin: [f64; 3],
+    framed: Option<[[f32; 3]; 2]>,
     z_scale: f32,
     aspect: f32,
     view: (f32, f32),
 ) -> Framing {
     let framing = Framing::new(z_scale, aspect, view);
-    let Some(stray) = stray else {
+    let Some([lo, hi]) = framed.map(|b| b.map(Vec3::from)) else {
         return framing;
     };
-    let [a, b] = [stray.rest.min, stray.rest.max]
-        .map(|corner| Vec3::from(CornerPointGrid::to_display(origin, corner)));
-    let (lo, hi) = (a.min(b), a.max(b));
     let margin = 0.01 * (hi - lo) + Vec3::splat(1e-3);
     framing.within(lo - margin, hi + margin)
 }

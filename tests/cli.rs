@@ -252,10 +252,10 @@ fn work_beyond_the_memory_there_is_is_refused_before_it_starts() {
 
 /// One stray depth in an active cell (a corrupt value of 1e11 m) would stretch the
 /// model's extent until the rest is a speck: every command that reads the model names
-/// the cell; `render`, drawing the model whole or in parts, frames the rest of it
-/// (the faces that reach the stray corner run out of the picture), which then covers
-/// about what the sound model's picture does; `lod view`, which frames what the
-/// hierarchy stores, writes the blank picture and says why.
+/// the cell; `render`, drawing the model whole or in parts, and `lod view` of its
+/// hierarchy frame the rest of it (the faces that reach the stray corner run out of
+/// the picture), which then covers about what the sound model's picture does. A
+/// picture of the background alone says why.
 #[test]
 fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
     use strata::grid::synth::{SynthParams, generate};
@@ -335,11 +335,46 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
     let lod = path(&dir.path().join("stray.lod"));
     let said = succeed(&["lod", "build", &stray, "-o", &lod]);
     assert!(said.contains(&named), "{said}");
+    let sound_lod = path(&dir.path().join("sound.lod"));
+    succeed(&["lod", "build", &sound, "-o", &sound_lod]);
+    // The hierarchy keeps the box views frame, and says so.
+    let framed = "the model has stray corners, which views leave out";
+    let (ok, _, listed) = strata(&["info", &lod]);
+    assert!(ok && listed.contains(framed), "{listed}");
+    let (ok, _, listed) = strata(&["info", &sound_lod]);
+    assert!(ok && !listed.contains(framed), "{listed}");
     for wire in ["global", "dist"] {
-        let said = succeed(&[
-            "lod", "view", &lod, "--wire", wire, "--size", "200x150", "-o", &png,
-        ]);
-        assert!(said.contains(note) && covered() == 0, "{wire}: {said}");
-        assert!(!said.contains("hidden behind"), "{wire}: {said}");
+        let view = |lod: &str| {
+            let said = succeed(&[
+                "lod", "view", lod, "--wire", wire, "--size", "200x150", "-o", &png,
+            ]);
+            (said, covered())
+        };
+        let (said, whole) = view(&sound_lod);
+        assert!(
+            !said.contains(note) && whole > 200 * 150 / 10,
+            "{wire}: {said}"
+        );
+        let (said, drawn) = view(&lod);
+        assert!(
+            !said.contains(note)
+                && drawn as f64 > 0.8 * whole as f64
+                && (drawn as f64) < 1.25 * whole as f64,
+            "{wire}: {drawn} pixels against the sound hierarchy's {whole}: {said}"
+        );
     }
+    // Seen from so far that the model covers no pixel, the picture says why.
+    let said = succeed(&[
+        "lod",
+        "view",
+        &lod,
+        "--view",
+        "30,35,1e6",
+        "--size",
+        "200x150",
+        "-o",
+        &png,
+    ]);
+    assert!(said.contains(note) && covered() == 0, "{said}");
+    assert!(!said.contains("hidden behind"), "{said}");
 }

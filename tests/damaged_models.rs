@@ -317,12 +317,16 @@ fn damaged_eclipse_binaries_are_errors_naming_them_or_read_and_go_through() {
     );
 }
 
-/// What a view of a hierarchy reads, `lod view`'s way: the nodes it selects from a far
-/// and a near eye at three pixel errors, their mesh, cells, values and corners, and
-/// every layer's cells and sides and the leaf over a cell. The first error, if any.
+/// What a view of a hierarchy reads, `lod view`'s way: the box it frames, the nodes it
+/// selects from a far and a near eye at three pixel errors, their mesh, cells, values
+/// and corners, and every layer's cells and sides and the leaf over a cell. The first
+/// error, if any.
 fn view_hierarchy(path: &Path) -> Result<(), String> {
     let file = LodFile::open(path).map_err(|e| e.to_string())?;
     let [ni, nj] = file.dims();
+    if let Some([lo, hi]) = file.framed() {
+        assert!((0..3).all(|a| lo[a] <= hi[a]), "a framed box {lo:?} {hi:?}");
+    }
     for eye in [[0.0, -1e5, 1e5], [10.0, 10.0, 5.0]] {
         for max_pixels in [0.0, 1.0, f32::INFINITY] {
             let view = ViewPoint {
@@ -376,16 +380,17 @@ fn a_damaged_hierarchy_is_an_error_naming_it_or_is_viewed() {
     build_file(&model(), Some("PORO"), &path, &options).expect("the hierarchy is built");
     let built = std::fs::read(&path).expect("the hierarchy reads back");
     assert_eq!(view_hierarchy(&path), Ok(()));
-    // The header (88 bytes) names where the layer table starts; the node table
+    // The header (112 bytes) names where the layer table starts; the node table
     // follows it to the end of the file. Damage lands in the tables as often as in
     // the header and as in the node data before them.
+    const HEADER: usize = 112;
     let tables = built
         .get(64..72)
         .and_then(|b| b.try_into().ok())
         .map(u64::from_le_bytes)
         .expect("a header") as usize;
-    assert!(88 < tables && tables < built.len());
-    let regions = [8..88, 88..tables, tables..built.len()];
+    assert!(HEADER < tables && tables < built.len());
+    let regions = [8..HEADER, HEADER..tables, tables..built.len()];
     let mut sequence = Sequence(0x10d);
     let (mut viewed, mut errors) = (0, 0);
     for round in 0..600 {
@@ -406,7 +411,7 @@ fn a_damaged_hierarchy_is_an_error_naming_it_or_is_viewed() {
                 4 => damaged[at] = sequence.next() as u8,
                 _ => damaged.truncate(at),
             }
-            if damaged.len() < 88 {
+            if damaged.len() < HEADER {
                 break;
             }
         }

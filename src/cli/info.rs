@@ -97,6 +97,9 @@ struct HierarchyInfo {
     property_range: Option<[f32; 2]>,
     /// Side faces (outer shell and fault walls), at full resolution.
     side_faces: u64,
+    /// When the model has stray corners, the bounds (display frame, origin added) of
+    /// the rest of it, which views frame.
+    framed: Option<[[f64; 3]; 2]>,
 }
 
 #[derive(Serialize)]
@@ -150,6 +153,9 @@ fn hierarchy_info(path: &Path, json: bool) -> Result<()> {
         levels: levels.into_values().collect(),
         property_range: file.scalar_range().map(|(a, b)| [a, b]),
         side_faces: file.layers().iter().map(|l| u64::from(l.side_faces)).sum(),
+        framed: file
+            .framed()
+            .map(|b| b.map(|c| std::array::from_fn(|a| origin[a] + f64::from(c[a])))),
     };
     if json {
         println!("{}", serde_json::to_string_pretty(&info)?);
@@ -167,6 +173,13 @@ fn hierarchy_info(path: &Path, json: bool) -> Result<()> {
         println!("  x              {:.2} .. {:.2}", info.min[0], info.max[0]);
         println!("  y              {:.2} .. {:.2}", info.min[1], info.max[1]);
         println!("  elevation      {:.2} .. {:.2}", info.min[2], info.max[2]);
+    }
+    if let Some([lo, hi]) = info.framed {
+        println!(
+            "  framed         x {:.2} .. {:.2}, y {:.2} .. {:.2}, elevation {:.2} .. {:.2}: \
+             the model has stray corners, which views leave out",
+            lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]
+        );
     }
     println!(
         "  leaf tiles     {} x {} cells",

@@ -19,7 +19,7 @@ use strata::render::{
     Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Stacking, Style, TiledCells, View,
     WireMode, stack_pushes,
 };
-use strata::scene::{colour_range, corner_field, faces_in_view, first_face_centre};
+use strata::scene::{colour_range, corner_field, faces_in_view, first_face_centre, framing_of};
 
 use super::ReadArgs;
 use super::style::{
@@ -201,6 +201,16 @@ fn view(args: &ViewArgs) -> Result<()> {
             hi[a] = hi[a].max(n.max[a]);
         }
     }
+    // A model's stray corners are left out of the frame and, past the far plane, out
+    // of the picture, as `strata render` leaves them.
+    let framed = file.framed();
+    if let Some([flo, fhi]) = framed {
+        for a in 0..3 {
+            let margin = 0.01 * (fhi[a] - flo[a]) + 1e-3;
+            lo[a] = lo[a].max(flo[a] - margin);
+            hi[a] = hi[a].min(fhi[a] + margin);
+        }
+    }
     let bounds = (Vec3::from(lo), Vec3::from(hi));
     let frame = &args.frame;
     let sides = if args.drawn.sides {
@@ -227,9 +237,9 @@ fn view(args: &ViewArgs) -> Result<()> {
     // coordinates fills a fraction of its box); then, as the roots are coarse, on the
     // vertices of the nodes within FRAMING_PIXELS of the full resolution that `render`
     // frames, so that the frame does not move with --pixels.
-    let camera = fit_camera(frame_points(&file, &roots, sides.as_ref()), frame);
+    let camera = fit_camera(frame_points(&file, &roots, sides.as_ref()), framed, frame);
     let framing = choose(&camera, FRAMING_PIXELS, false);
-    let camera = fit_camera(frame_points(&file, &framing, sides.as_ref()), frame);
+    let camera = fit_camera(frame_points(&file, &framing, sides.as_ref()), framed, frame);
     let camera = match frame.centre {
         Some(cell) => camera.centred_on(column_top(&file, &drawn, cell)?),
         None => camera,
@@ -480,16 +490,18 @@ fn frame_points<'a>(
         .map(Vec3::from)
 }
 
-/// A camera framing `points` as `strata render` frames a model.
-fn fit_camera(points: impl Iterator<Item = Vec3> + Clone, frame: &FrameArgs) -> Camera {
+/// A camera framing `points` (those in the box `framed`, when given) as `strata
+/// render` frames a model.
+fn fit_camera(
+    points: impl Iterator<Item = Vec3>,
+    framed: Option<[[f32; 3]; 2]>,
+    frame: &FrameArgs,
+) -> Camera {
     let (az, el, dist) = frame.view;
-    Camera::fit_points(
-        points,
-        frame.zscale,
-        frame.size.0 as f32 / frame.size.1 as f32,
-        (az, el),
-        dist,
-    )
+    let aspect = frame.size.0 as f32 / frame.size.1 as f32;
+    let mut framing = framing_of(framed, frame.zscale, aspect, (az, el));
+    framing.add(points);
+    framing.camera(dist)
 }
 
 /// The side faces of the grid layers whose surfaces are marked `drawn`, in one mesh;

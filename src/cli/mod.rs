@@ -86,8 +86,7 @@ pub fn warn_about(grid: &CornerPointGrid, path: &Path) -> Option<StrayCorners> {
 
 /// Names the corner of the model read from `path` farthest outside the rest of it,
 /// of those `stray` found ([`CornerPointGrid::stray_corners`]): one stray depth is
-/// enough to pull a face across every picture (and to make the model a speck in a
-/// hierarchy's view), and this says which cell to mend.
+/// enough to pull a face across every picture, and this says which cell to mend.
 pub fn stray_warning(stray: &StrayCorners, path: &Path) -> String {
     let w = &stray.worst;
     let [x, y, depth] = w.map;
@@ -95,9 +94,8 @@ pub fn stray_warning(stray: &StrayCorners, path: &Path) -> String {
     format!(
         "{}: cell {},{},{} has a corner (number {}, on pillar {},{}) at x {x:.2}, y {y:.2}, \
          depth {depth:.2}, far outside the rest of the model (x {:.2} .. {:.2}, y {:.2} .. \
-         {:.2}, depth {:.2} .. {:.2}): `render` frames the rest, and the faces that reach \
-         it run out of the picture; a hierarchy's view frames all it stores, where the rest \
-         may be a speck; {} pillar(s) have corners that far out (over {} interquartile \
+         {:.2}, depth {:.2} .. {:.2}): pictures frame the rest, and the faces that reach \
+         it run out of them; {} pillar(s) have corners that far out (over {} interquartile \
          ranges past the quartiles)",
         path.display(),
         w.cell[0] + 1,

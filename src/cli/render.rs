@@ -225,8 +225,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let (az, el, dist) = args.frame.view;
     let mut framing = scene::framing_of(
-        stray.as_ref(),
-        mesh.origin,
+        stray.as_ref().map(|s| s.rest.to_display(mesh.origin)),
         args.frame.zscale,
         args.frame.size.0 as f32 / args.frame.size.1 as f32,
         (az, el),
@@ -383,7 +382,8 @@ fn draw_in_parts(
             .with_style(bar_style.clone())
             .with_message(message)
     };
-    let framing = scene::framing_of(stray, origin, args.frame.zscale, aspect, (az, el));
+    let framed = stray.map(|s| s.rest.to_display(origin));
+    let framing = scene::framing_of(framed, args.frame.zscale, aspect, (az, el));
     let framing_bar = bar(0, "framing: rows of tiles");
     let extent = scene::scene_extent(grid, options, origin, framing, Some(&framing_bar))?;
     framing_bar.finish_and_clear();

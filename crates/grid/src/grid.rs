@@ -714,6 +714,16 @@ impl BoundingBox {
         }
     }
 
+    /// The box in the display frame of `origin` ([`CornerPointGrid::to_display`]):
+    /// its least and greatest corner, elevation taking the place of depth.
+    pub fn to_display(&self, origin: [f64; 3]) -> [[f32; 3]; 2] {
+        let [a, b] = [self.min, self.max].map(|c| CornerPointGrid::to_display(origin, c));
+        [
+            std::array::from_fn(|k| a[k].min(b[k])),
+            std::array::from_fn(|k| a[k].max(b[k])),
+        ]
+    }
+
     /// Length of the diagonal; 0 for an empty box.
     pub fn extent(&self) -> f64 {
         if self.is_empty() {

@@ -4,9 +4,10 @@
 //! is used in place with no parsing or copying):
 //!
 //! ```text
-//! Header        88 bytes  magic "STRATLOD", version, flags, origin, grid dims,
+//! Header       112 bytes  magic "STRATLOD", version, flags, origin, grid dims,
 //!                         tile size, counts, offsets of the two tables, the
-//!                         property's range over the active cells
+//!                         property's range over the active cells, the box views
+//!                         frame when the model has stray corners
 //! node data     per node: vertices (position, texture coordinates, scalar: 24 bytes
 //!               each), then indices (u16 when the node has under 65536 vertices,
 //!               else u32), padded to 8 bytes
@@ -48,10 +49,13 @@ use crate::{BuildOptions, CellCover, CoverPiece, Error, Result};
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
 /// faces. 5: side faces wound counter-clockwise seen from outside their cells, so a
-/// view leaves out those that turn their back to the eye.
-const VERSION: u32 = 5;
+/// view leaves out those that turn their back to the eye. 6: the header ends with the
+/// box views frame.
+const VERSION: u32 = 6;
 /// Header flag: vertices carry a scalar (NaN otherwise).
 const HAS_SCALARS: u32 = 1;
+/// Header flag: the model has stray corners, and views frame only `Header::framed`.
+const STRAY_CORNERS: u32 = 2;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -71,6 +75,11 @@ struct Header {
     /// without a property): vertex scalars are averages over cells, so only this
     /// gives the colour map the range `strata render` gives it.
     scalar_range: [f32; 2],
+    /// With [`STRAY_CORNERS`], the box of the model's corners but the stray ones
+    /// (`CornerPointGrid::stray_corners`), least then greatest corner, in the display
+    /// frame: what `strata render` frames, which the nodes' boxes, holding the stray
+    /// corners, cannot give.
+    framed: [[f32; 3]; 2],
 }
 
 /// One layer surface of the file.
@@ -434,6 +443,7 @@ impl Writer {
         dims: [u32; 2],
         tile_cells: u32,
         scalar_range: Option<[f32; 2]>,
+        framed: Option<[[f32; 3]; 2]>,
     ) -> Result<u64> {
         let layers_offset = self.pos;
         let layers = std::mem::take(&mut self.layers);
@@ -449,7 +459,7 @@ impl Writer {
                 HAS_SCALARS
             } else {
                 0
-            },
+            } | if framed.is_some() { STRAY_CORNERS } else { 0 },
             origin,
             dims,
             tile_cells,
@@ -459,6 +469,7 @@ impl Writer {
             layers_offset,
             nodes_offset,
             scalar_range: scalar_range.unwrap_or([f32::NAN; 2]),
+            framed: framed.unwrap_or([[f32::NAN; 3]; 2]),
         };
         let path = self.path.clone();
         let io = |e| Error::io(&path, e);
@@ -629,7 +640,8 @@ fn build_file_counted(
         }
     }
     let scalar_range = property.map(|name| cell_range(grid, name));
-    report.bytes = writer.finish(origin, dims, options.tile_cells, scalar_range)?;
+    let framed = grid.stray_corners().map(|s| s.rest.to_display(origin));
+    report.bytes = writer.finish(origin, dims, options.tile_cells, scalar_range, framed)?;
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
 }
@@ -928,6 +940,17 @@ impl LodFile {
     pub fn scalar_range(&self) -> Option<(f32, f32)> {
         let [lo, hi] = self.header.scalar_range;
         (self.has_scalars() && lo.is_finite() && hi.is_finite() && lo <= hi).then_some((lo, hi))
+    }
+
+    /// The box views frame, when the model has stray corners: that of its corners
+    /// but the stray ones (display frame, least then greatest corner), as `strata
+    /// render` frames the model. `None` for a sound model, whose every point is
+    /// framed, or when the stored box is not a box.
+    pub fn framed(&self) -> Option<[[f32; 3]; 2]> {
+        let [lo, hi] = self.header.framed;
+        (self.header.flags & STRAY_CORNERS != 0
+            && (0..3).all(|a| lo[a].is_finite() && hi[a].is_finite() && lo[a] <= hi[a]))
+        .then_some([lo, hi])
     }
 
     pub fn layers(&self) -> &[LayerRecord] {
@@ -1468,7 +1491,7 @@ mod tests {
         // One that ends replaces it.
         let writer = Writer::create(&path).expect("the writer starts");
         let bytes = writer
-            .finish([0.0; 3], [1, 1], 1, None)
+            .finish([0.0; 3], [1, 1], 1, None, None)
             .expect("the file is finished");
         assert_eq!(listing(), ["model.lod"]);
         assert_eq!(std::fs::metadata(&path).expect("there").len(), bytes);
