@@ -91,12 +91,20 @@ pub fn nothing_to_draw(grid: &CornerPointGrid, options: &SceneOptions) -> anyhow
     )
 }
 
+/// The box (display frame) of a model's corners but its stray ones
+/// ([`CornerPointGrid::stray_corners`]) as views frame it: widened by a hundredth of
+/// its size on each axis, so that rounding keeps the corners on its faces.
+pub fn framed_box([lo, hi]: [[f32; 3]; 2]) -> (Vec3, Vec3) {
+    let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
+    let margin = 0.01 * (hi - lo) + Vec3::splat(1e-3);
+    (lo - margin, hi + margin)
+}
+
 /// Framing for a picture of `aspect` (width / height) seen from `view` (azimuth,
-/// elevation) under vertical exaggeration `z_scale`. With `framed`, the box (display
-/// frame) of a model's corners but its stray ones ([`CornerPointGrid::stray_corners`]),
-/// only points in that box are framed, widened by a hundredth of its size on each axis
-/// so that rounding keeps the corners on its faces: the faces that reach a stray corner
-/// run out of the picture and the rest of the model fills it.
+/// elevation) under vertical exaggeration `z_scale`. With `framed`, the box of a
+/// model's corners but its stray ones, only points in [`framed_box`] are framed: the
+/// faces that reach a stray corner run out of the picture and the rest of the model
+/// fills it.
 pub fn framing_of(
     framed: Option<[[f32; 3]; 2]>,
     z_scale: f32,
@@ -104,11 +112,10 @@ pub fn framing_of(
     view: (f32, f32),
 ) -> Framing {
     let framing = Framing::new(z_scale, aspect, view);
-    let Some([lo, hi]) = framed.map(|b| b.map(Vec3::from)) else {
-        return framing;
-    };
-    let margin = 0.01 * (hi - lo) + Vec3::splat(1e-3);
-    framing.within(lo - margin, hi + margin)
+    match framed.map(framed_box) {
+        Some((lo, hi)) => framing.within(lo, hi),
+        None => framing,
+    }
 }
 
 /// One piece of a scene drawn a part at a time ([`parts`]).

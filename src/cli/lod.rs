@@ -19,7 +19,9 @@ use strata::render::{
     Camera, CellDraw, IsolineOptions, RangeAdjust, Renderer, Stacking, Style, TiledCells, View,
     WireMode, stack_pushes,
 };
-use strata::scene::{colour_range, corner_field, faces_in_view, first_face_centre, framing_of};
+use strata::scene::{
+    colour_range, corner_field, faces_in_view, first_face_centre, framed_box, framing_of,
+};
 
 use super::ReadArgs;
 use super::style::{
@@ -204,14 +206,10 @@ fn view(args: &ViewArgs) -> Result<()> {
     // A model's stray corners are left out of the frame and, past the far plane, out
     // of the picture, as `strata render` leaves them.
     let framed = file.framed();
-    if let Some([flo, fhi]) = framed {
-        for a in 0..3 {
-            let margin = 0.01 * (fhi[a] - flo[a]) + 1e-3;
-            lo[a] = lo[a].max(flo[a] - margin);
-            hi[a] = hi[a].min(fhi[a] + margin);
-        }
-    }
-    let bounds = (Vec3::from(lo), Vec3::from(hi));
+    let bounds = match framed.map(framed_box) {
+        Some((flo, fhi)) => (Vec3::from(lo).max(flo), Vec3::from(hi).min(fhi)),
+        None => (Vec3::from(lo), Vec3::from(hi)),
+    };
     let frame = &args.frame;
     let sides = if args.drawn.sides {
         drawn_sides(&file, &drawn)?
@@ -481,7 +479,7 @@ fn frame_points<'a>(
     file: &'a LodFile,
     nodes: &'a [u32],
     sides: Option<&'a SurfaceMesh>,
-) -> impl Iterator<Item = Vec3> + Clone + 'a {
+) -> impl Iterator<Item = Vec3> + 'a {
     nodes
         .iter()
         .flat_map(|&i| file.vertices(i as usize))

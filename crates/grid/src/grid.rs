@@ -390,12 +390,7 @@ impl CornerPointGrid {
     /// coordinates (map x, map y, elevation). Not the bounding box's: a stray depth
     /// of 1e11 m would move it 5e10 m off the model, where `f32` steps are kilometres.
     pub fn display_origin(&self) -> [f64; 3] {
-        let b = self.view_box();
-        [
-            0.5 * (b.min[0] + b.max[0]),
-            0.5 * (b.min[1] + b.max[1]),
-            -0.5 * (b.min[2] + b.max[2]),
-        ]
+        self.view_box().display_centre()
     }
 
     /// Bounding box of the corners of the active cells (all cells when none is
@@ -468,7 +463,13 @@ impl CornerPointGrid {
     /// ones ([`Self::stray_corners`]), so that a few corrupt values leave the rest of
     /// the model in view; [`Self::bounding_box`] when there are none.
     pub fn view_box(&self) -> BoundingBox {
-        self.stray_corners_sampling(STRAY_QUARTILE_SAMPLES).0
+        self.view_box_and_stray_corners().0
+    }
+
+    /// [`Self::view_box`] and [`Self::stray_corners`] from one pass, for a caller that
+    /// needs both.
+    pub fn view_box_and_stray_corners(&self) -> (BoundingBox, Option<StrayCorners>) {
+        self.stray_corners_sampling(STRAY_QUARTILE_SAMPLES)
     }
 
     /// [`Self::view_box`] and [`Self::stray_corners`], the quartiles from at most
@@ -712,6 +713,16 @@ impl BoundingBox {
             min: std::array::from_fn(|a| self.min[a].min(other.min[a])),
             max: std::array::from_fn(|a| self.max[a].max(other.max[a])),
         }
+    }
+
+    /// The centre of the box in display coordinates (map x, map y, elevation), as
+    /// [`CornerPointGrid::display_origin`] takes it.
+    pub fn display_centre(&self) -> [f64; 3] {
+        [
+            0.5 * (self.min[0] + self.max[0]),
+            0.5 * (self.min[1] + self.max[1]),
+            -0.5 * (self.min[2] + self.max[2]),
+        ]
     }
 
     /// The box in the display frame of `origin` ([`CornerPointGrid::to_display`]):

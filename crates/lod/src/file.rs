@@ -566,7 +566,8 @@ fn build_file_counted(
         u32::try_from(d.nx).map_err(|_| Error::Option(format!("nx = {} is too large", d.nx)))?,
         u32::try_from(d.ny).map_err(|_| Error::Option(format!("ny = {} is too large", d.ny)))?,
     ];
-    let origin = grid.display_origin();
+    let (view_box, stray) = grid.view_box_and_stray_corners();
+    let origin = view_box.display_centre();
     let surfaces: Vec<(usize, Face)> = (0..d.nz)
         .map(|k| (k, Face::Top))
         .chain((d.nz > 0).then_some((d.nz - 1, Face::Bottom)))
@@ -640,7 +641,7 @@ fn build_file_counted(
         }
     }
     let scalar_range = property.map(|name| cell_range(grid, name));
-    let framed = grid.stray_corners().map(|s| s.rest.to_display(origin));
+    let framed = stray.map(|s| s.rest.to_display(origin));
     report.bytes = writer.finish(origin, dims, options.tile_cells, scalar_range, framed)?;
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
