@@ -686,7 +686,7 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
     let mut outlines = Vec::new();
     for (label, layers) in &models {
         let visible = if layers.len() > 1 {
-            renderer.visible_fractions(&layers.iter().collect::<Vec<_>>(), Z_SCALE)?
+            renderer.visible_fractions(&layers.iter().collect::<Vec<_>>(), Z_SCALE, None)?
         } else {
             vec![1.0; layers.len()]
         };

@@ -604,11 +604,14 @@ impl SceneCells {
 /// `against_cells` (or `cover`), the input's cells come back, to colour and line the
 /// result by and to trim it to, with the stacked surfaces' order ([`SceneCells`]).
 /// With `stitch`, the surfaces meet again where their outlines do
-/// (`strata_lod::stitch`).
+/// (`strata_lod::stitch`). `framed`, the box of the model's corners but its stray
+/// ones in the surfaces' frame, is what the views that split the budget frame and
+/// measure, as the picture frames it ([`framing_of`]).
 pub fn decimate_scene(
     renderer: &mut Renderer,
     surfaces: &[SurfaceMesh],
     stacked: usize,
+    framed: Option<[[f32; 3]; 2]>,
     percent: f64,
     z_scale: f32,
     (cover, against_cells, stitch): (bool, bool, bool),
@@ -617,7 +620,11 @@ pub fn decimate_scene(
     let total: usize = surfaces.iter().map(SurfaceMesh::triangle_count).sum();
     let visible = if surfaces.len() > 1 {
         renderer
-            .visible_fractions(&surfaces.iter().collect::<Vec<_>>(), z_scale)
+            .visible_fractions(
+                &surfaces.iter().collect::<Vec<_>>(),
+                z_scale,
+                framed.map(framed_box),
+            )
             .context("measuring how much of each surface is seen")?
     } else {
         vec![1.0; surfaces.len()]

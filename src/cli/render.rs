@@ -159,10 +159,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let (mesh, range, mut cells) = match args.lod {
         Some(percent) => {
             let (surfaces, stacked) = scene::build_stacked_surfaces(&grid, &options)?;
+            let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
             let (mesh, cells) = super::lod::decimate_scene(
                 &mut renderer,
                 &surfaces,
                 stacked,
+                stray.as_ref().map(|s| s.rest.to_display(origin)),
                 percent,
                 args.frame.zscale,
                 (args.cover, by_cells, args.stitch),

@@ -151,6 +151,13 @@ impl Camera {
     }
 }
 
+/// Whether `p` is in the box `[min, max]` (every point is when there is none): the
+/// corners a view frames ([`Framing::within`]) and measures
+/// ([`crate::Renderer::visible_fractions`]), leaving a model's stray ones out.
+pub(crate) fn in_box(framed: Option<(Vec3, Vec3)>, p: Vec3) -> bool {
+    framed.is_none_or(|(lo, hi)| p.cmpge(lo).all() && p.cmple(hi).all())
+}
+
 /// What [`Camera::fit_points`] needs to know of a set of points, gathered a part at a
 /// time: a scene drawn in parts, too large to hold at once, is framed exactly as the
 /// same points in one mesh.
@@ -220,9 +227,7 @@ impl Framing {
     pub fn add(&mut self, points: impl IntoIterator<Item = Vec3>) {
         let scale = Vec3::new(1.0, 1.0, self.z_scale);
         for p in points {
-            if let Some((lo, hi)) = self.within
-                && !(p.cmpge(lo).all() && p.cmple(hi).all())
-            {
+            if !in_box(self.within, p) {
                 continue;
             }
             let q = p * scale;

@@ -10,6 +10,7 @@ use strata_grid::SurfaceMesh;
 use strata_lod::CellCover;
 use wgpu::util::DeviceExt;
 
+use crate::camera::in_box;
 use crate::gpu::Gpu;
 use crate::renderer::{View, frame_texture, readback_buffer};
 use crate::wire::{DEPTH_FORMAT, PipelineContext, pipeline_into};
@@ -360,7 +361,8 @@ pub(crate) fn projected_pixels(
 }
 
 /// [`visible_pixels`] and [`projected_pixels`] of one view at once, per surface of
-/// `surfaces` drawn in their order, each moved by its `shifts` entry; sampled on the
+/// `surfaces` drawn in their order, each moved by its `shifts` entry, of the
+/// triangles with every corner in the box `framed` (all without one); sampled on the
 /// CPU: each triangle's pixel centres, the nearest surface winning (reversed depth,
 /// the last drawn at equal depth, as the frame's `GreaterEqual` test), with the
 /// frame's transform and depth range. On a CPU rasterizer this is the faster way: at
@@ -371,6 +373,7 @@ pub(crate) fn projected_pixels(
 pub(crate) fn pixels_on_cpu(
     surfaces: &[&SurfaceMesh],
     shifts: &[Vec3],
+    framed: Option<(Vec3, Vec3)>,
     view: &View,
 ) -> (Vec<u64>, Vec<f64>) {
     let count = surfaces.len();
@@ -382,15 +385,16 @@ pub(crate) fn pixels_on_cpu(
     let (w, h) = (width as f32, height as f32);
     let mut depth = vec![f32::NEG_INFINITY; width * height];
     let mut owner = vec![u32::MAX; width * height];
-    // Each vertex's place [`on_screen`].
+    // Each vertex's place [`on_screen`], none outside `framed`.
     let mut screen: Vec<Option<[f32; 3]>> = Vec::new();
     for (group, (mesh, &shift)) in surfaces.iter().zip(shifts).enumerate() {
         screen.clear();
-        screen.extend(
-            mesh.positions
-                .iter()
-                .map(|&p| on_screen(&clip, Vec3::from(p) + shift, (w, h))),
-        );
+        screen.extend(mesh.positions.iter().map(|&p| {
+            let p = Vec3::from(p) + shift;
+            in_box(framed, p)
+                .then(|| on_screen(&clip, p, (w, h)))
+                .flatten()
+        }));
         for tri in &mesh.triangles {
             let corner = |k: usize| screen.get(tri[k] as usize).copied().flatten();
             let (Some(a), Some(b), Some(c)) = (corner(0), corner(1), corner(2)) else {

@@ -5,6 +5,7 @@
 mod support;
 
 use strata_grid::SurfaceMesh;
+use strata_render::glam::Vec3;
 use strata_render::{Renderer, Sampling};
 use support::*;
 
@@ -21,7 +22,7 @@ fn a_surface_alone_is_seen_whole() {
     let mut r = renderer();
     let one = layer(20, 0.0);
     let seen = r
-        .visible_fractions(&[&one], 5.0)
+        .visible_fractions(&[&one], 5.0, None)
         .expect("visible fractions");
     assert_eq!(seen.len(), 1);
     // Pixel centres against the triangles' exact area: only the outline's pixels differ.
@@ -33,7 +34,7 @@ fn stacked_surfaces_hide_those_between_top_and_bottom() {
     let mut r = renderer();
     let stack: Vec<SurfaceMesh> = (0..4).map(|k| layer(20, -2.0 * k as f32)).collect();
     let seen = r
-        .visible_fractions(&stack.iter().collect::<Vec<_>>(), 5.0)
+        .visible_fractions(&stack.iter().collect::<Vec<_>>(), 5.0, None)
         .expect("visible fractions");
     let name = backend(&r);
     // Top and bottom show whole from their own side (half the views) and hardly at all
@@ -51,13 +52,13 @@ fn stacked_surfaces_hide_those_between_top_and_bottom() {
         p[0] += 400.0;
     }
     let seen = r
-        .visible_fractions(&aside.iter().collect::<Vec<_>>(), 5.0)
+        .visible_fractions(&aside.iter().collect::<Vec<_>>(), 5.0, None)
         .expect("visible fractions");
     assert!(seen[1] > 0.9, "{name}: {seen:?}");
     // A surface of no triangle covers no pixel.
     let empty = SurfaceMesh::default();
     let seen = r
-        .visible_fractions(&[&stack[0], &empty], 5.0)
+        .visible_fractions(&[&stack[0], &empty], 5.0, None)
         .expect("visible fractions");
     assert_eq!(seen[1], 0.0, "{name}: {seen:?}");
 }
@@ -66,10 +67,10 @@ fn stacked_surfaces_hide_those_between_top_and_bottom() {
 fn both_agree(r: &mut Renderer, surfaces: &[&SurfaceMesh], tolerance: f64) -> Vec<f64> {
     let name = backend(r);
     let cpu = r
-        .visible_fractions_by(surfaces, 5.0, Sampling::Cpu)
+        .visible_fractions_by(surfaces, 5.0, None, Sampling::Cpu)
         .expect("sampled on the CPU");
     let drawn = r
-        .visible_fractions_by(surfaces, 5.0, Sampling::Adapter)
+        .visible_fractions_by(surfaces, 5.0, None, Sampling::Adapter)
         .expect("drawn by the adapter");
     assert_eq!(cpu.len(), surfaces.len());
     for (a, b) in cpu.iter().zip(&drawn) {
@@ -99,4 +100,37 @@ fn sampling_on_the_cpu_sees_what_the_adapter_draws() {
     let one = layer(20, 0.0);
     let seen = both_agree(&mut r, &[&one, &one.clone()], 0.005);
     assert!(seen[0] < 0.01 && (seen[1] - 1.0).abs() < 0.03, "{seen:?}");
+}
+
+#[test]
+fn triangles_out_of_the_framed_box_are_neither_seen_nor_counted() {
+    let mut r = renderer();
+    let name = backend(&r);
+    let stack: Vec<SurfaceMesh> = (0..4).map(|k| layer(20, -2.0 * k as f32)).collect();
+    let mut stray = stack.clone();
+    // A node inside the top surface at a depth as corrupt as a file's can be.
+    stray[0].positions[10 * 21 + 10][2] = -1e11;
+    let framed = Some((Vec3::new(-1.0, -1.0, -10.0), Vec3::new(201.0, 201.0, 5.0)));
+    for sampling in [Sampling::Cpu, Sampling::Adapter] {
+        let mut seen = |surfaces: &[SurfaceMesh], framed| {
+            r.visible_fractions_by(&surfaces.iter().collect::<Vec<_>>(), 5.0, framed, sampling)
+                .expect("visible fractions")
+        };
+        let sound = seen(&stack, None);
+        // The sound surfaces are all in the box: framed by it, as without it.
+        assert_eq!(seen(&stack, framed), sound, "{name} {sampling:?}");
+        let left_out = seen(&stray, framed);
+        for (s, k) in left_out.iter().zip(&sound) {
+            assert!(
+                (s - k).abs() < 0.02,
+                "{name} {sampling:?}: {left_out:?} against {sound:?}"
+            );
+        }
+        // Counted, the stray corner's faces shrink the rest of the model to a speck.
+        let counted = seen(&stray, None);
+        assert!(
+            counted[0] < 0.5 * sound[0],
+            "{name} {sampling:?}: {counted:?} against {sound:?}"
+        );
+    }
 }
