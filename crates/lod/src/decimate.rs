@@ -48,7 +48,7 @@ use std::time::Instant;
 use strata_grid::SurfaceMesh;
 
 use crate::cover::CellCover;
-use crate::measure::{Located, LocatedSample};
+use crate::measure::{Located, LocatedSample, stray_edge_length};
 use crate::quadric::{Local, Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
@@ -622,6 +622,9 @@ pub(crate) struct Frame {
     pub uv_scale: f64,
     pub s_mean: f64,
     pub s_scale: f64,
+    /// Edges longer than this (display length) reach a stray corner
+    /// ([`stray_edge_length`]): the surface's scales leave them out.
+    stray_edge: f64,
 }
 
 impl Frame {
@@ -636,18 +639,26 @@ impl Frame {
             }
         }
         let zs = f64::from(options.z_scale);
+        let length = |p: usize, q: usize| {
+            let d: [f64; 3] = std::array::from_fn(|a| {
+                let scale = if a == 2 { zs } else { 1.0 };
+                f64::from(mesh.positions[q][a] - mesh.positions[p][a]) * scale
+            });
+            dot3(d, d).sqrt()
+        };
+        let stray_edge = stray_edge_length(mesh, length);
         // Length per texture unit: mean edge length over mean texture edge length.
         let (mut len, mut tex, mut edges) = (0f64, 0f64, 0usize);
         for tri in mesh.triangles.iter().step_by(3) {
             for k in 0..3 {
                 let (p, q) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-                let d: [f64; 3] = std::array::from_fn(|a| {
-                    let scale = if a == 2 { zs } else { 1.0 };
-                    f64::from(mesh.positions[q][a] - mesh.positions[p][a]) * scale
-                });
+                let l = length(p, q);
+                if l > stray_edge {
+                    continue;
+                }
                 let t: [f64; 2] =
                     std::array::from_fn(|a| f64::from(mesh.texcoords[q][a] - mesh.texcoords[p][a]));
-                len += dot3(d, d).sqrt();
+                len += l;
                 tex += (t[0] * t[0] + t[1] * t[1]).sqrt();
                 edges += 1;
             }
@@ -680,6 +691,7 @@ impl Frame {
             uv_scale,
             s_mean,
             s_scale,
+            stray_edge,
         }
     }
 
@@ -941,7 +953,11 @@ impl<'a> Collapser<'a> {
             let (mut sum, mut k) = (0.0, 0usize);
             for tri in mesh.triangles.iter().step_by(7) {
                 let e = sub3(&x[tri[1] as usize], &x[tri[0] as usize]);
-                sum += dot3(e, e);
+                let e2 = dot3(e, e);
+                if e2 > frame.stray_edge * frame.stray_edge {
+                    continue;
+                }
+                sum += e2;
                 k += 1;
             }
             if k > 0 { sum / k as f64 } else { 1.0 }
