@@ -424,9 +424,13 @@ pub struct GridLines<'m> {
     /// Ends of each cell edge, and its component.
     edges: Vec<[u32; 3]>,
     per_edge: usize,
-    /// Edges longer than this reach a stray corner ([`stray_edge_length`]): neither
-    /// sampled on the original nor drawing a sample on a simplified surface.
+    /// Edges longer than this reach a stray corner ([`stray_edge_length`]) and are
+    /// not sampled.
     stray_edge: f64,
+    /// Triangles of the original with such an edge, and its vertices most of whose
+    /// edges are such (the stray corners), both in order; nearly always none.
+    stray_triangles: Vec<u32>,
+    stray_corners: Vec<u32>,
 }
 
 impl<'m> GridLines<'m> {
@@ -447,8 +451,39 @@ impl<'m> GridLines<'m> {
         labels: Vec<u32>,
         per_edge: usize,
     ) -> Self {
-        let length = |a: usize, b: usize| edge_length(original, a, b);
+        let length = |a: usize, b: usize| {
+            let (p, q) = (original.positions[a], original.positions[b]);
+            (0..3)
+                .map(|k| f64::from(q[k] - p[k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
         let stray_edge = stray_edge_length(original, length);
+        let stray = |a: u32, b: u32| length(a as usize, b as usize) > stray_edge;
+        let stray_triangles: Vec<u32> = (0..original.triangle_count() as u32)
+            .filter(|&t| {
+                let tri = original.triangles[t as usize];
+                (0..3).any(|k| stray(tri[k], tri[(k + 1) % 3]))
+            })
+            .collect();
+        let mut stray_corners = Vec::new();
+        if !stray_triangles.is_empty() {
+            // Per vertex, its stray edges and all its edges (an inner one twice).
+            let mut edges = vec![(0u32, 0u32); original.vertex_count()];
+            for tri in &original.triangles {
+                for k in 0..3 {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    let long = u32::from(stray(a, b));
+                    for v in [a, b] {
+                        edges[v as usize].0 += long;
+                        edges[v as usize].1 += 1;
+                    }
+                }
+            }
+            stray_corners = (0..original.vertex_count() as u32)
+                .filter(|&v| 2 * edges[v as usize].0 > edges[v as usize].1)
+                .collect();
+        }
         // The cell edges of triangles `first..` (`triangles`), in order, into `out`,
         // but those that reach a stray corner.
         let cell_edges = |first: usize, triangles: &[[u32; 3]], out: &mut Vec<[u32; 3]>| {
@@ -503,24 +538,40 @@ impl<'m> GridLines<'m> {
             edges,
             per_edge: per_edge.max(1),
             stray_edge,
+            stray_triangles,
+            stray_corners,
         }
     }
 
     /// `simplified` indexed by texture coordinates, each triangle labelled with the
     /// component of the original it lies in: `home[v]` is a triangle of the original
-    /// that simplified vertex `v` lies on (or comes from). A triangle that reaches a
-    /// stray corner is in none.
+    /// that simplified vertex `v` lies on (or comes from). A triangle with a vertex at
+    /// a stray corner is in none: a vertex whose home triangle reaches one and that
+    /// lies further than a stray edge from that triangle's other corners.
     fn index<'s>(&self, simplified: &'s SurfaceMesh, home: &[u32]) -> UvIndex<'s> {
         let labels = &self.labels;
+        let stray = |v: u32| {
+            let Some(&h) = home.get(v as usize) else {
+                return false;
+            };
+            if self.stray_triangles.binary_search(&h).is_err() {
+                return false;
+            }
+            let p = simplified.positions[v as usize];
+            self.original.triangles[h as usize]
+                .iter()
+                .filter(|&u| self.stray_corners.binary_search(u).is_err())
+                .all(|&u| {
+                    let q = self.original.positions[u as usize];
+                    let d2: f64 = (0..3).map(|k| f64::from(q[k] - p[k]).powi(2)).sum();
+                    d2 > self.stray_edge * self.stray_edge
+                })
+        };
         let simplified_labels: Vec<u32> = simplified
             .triangles
             .iter()
             .map(|t| {
-                let stray = (0..3).any(|k| {
-                    edge_length(simplified, t[k] as usize, t[(k + 1) % 3] as usize)
-                        > self.stray_edge
-                });
-                if stray {
+                if t.iter().any(|&v| stray(v)) {
                     return NONE;
                 }
                 t.iter()
@@ -660,15 +711,6 @@ fn locate(
     let nearest = index.nearest(uv, label, 2)?;
     found.push(nearest);
     Some(false)
-}
-
-/// Length of the edge `a b` of `mesh`, z unscaled.
-fn edge_length(mesh: &SurfaceMesh, a: usize, b: usize) -> f64 {
-    let (p, q) = (mesh.positions[a], mesh.positions[b]);
-    (0..3)
-        .map(|k| f64::from(q[k] - p[k]).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// Distance between two points, their z difference scaled by `z_scale`.
