@@ -588,13 +588,19 @@ fn parent(
     // measured at the vertices only). Tried from the children where they are such
     // stretches themselves (small by then, and the target may be below what their
     // locked borders need), else from the target's result where it changed nothing.
+    // A leaf's error is nothing because it is the input, not because it is flat: taken
+    // for flat, the root of a layer of one tile (emerald's, 20 x 40 cells) was the
+    // only child of the second node above it, which kept it whole, and the chain
+    // stopped at half the root's triangles instead of at most COARSEST_TRIANGLES.
     let unchanged = merged.bounds().map_or([0.0; 2], |(lo, hi)| {
         let largest = |a: usize| lo[a].abs().max(hi[a].abs());
         let ulp = |x: f32| f32::from_bits(x.to_bits() + 1) - x;
         [largest(0).max(largest(1)), largest(2)].map(|x| f64::from(UNCHANGED_ULPS * ulp(x)))
     });
     let exact = |error: &[f64]| error[0] <= unchanged[0] && error[1] <= unchanged[1];
-    let flat_children = level >= 2 && children.iter().all(|c| exact(&c.error.map(f64::from)));
+    let flat_children = children
+        .iter()
+        .all(|c| c.level > 0 && exact(&c.error.map(f64::from)));
     let from_target = !flat_children && exact(&measured);
     if from_target || flat_children {
         let (mesh, mesh_home) = if from_target {

@@ -1014,3 +1014,34 @@ fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_s
         assert!(times_drawn(&file, &chosen, l).iter().all(|&n| n == 1));
     }
 }
+
+#[test]
+fn over_a_layer_of_one_tile_the_chain_goes_down_to_the_coarsest_node() {
+    use strata_grid::synth::{SynthParams, generate};
+    // One leaf: the quadtree's root is the leaf itself, whose error is nothing because
+    // it is the input, not because the layer is flat. Taken for flat, on this layer
+    // the chain stopped at half the leaf's triangles.
+    let grid = generate(&SynthParams {
+        nx: 40,
+        ny: 30,
+        nz: 3,
+        faults: 2,
+        seed: 3,
+    })
+    .unwrap();
+    let mesh = layer(&grid, 0);
+    let tree = build_layer(&mesh, [40, 30], &options(64)).unwrap();
+    let leaf = tree.nodes.iter().position(|n| n.level == 0).unwrap();
+    assert_eq!(
+        tree.nodes[leaf].mesh.triangle_count(),
+        mesh.triangle_count()
+    );
+    let top = &tree.nodes[0];
+    assert!(
+        top.mesh.triangle_count() <= 64 && leaf >= 4,
+        "the coarsest of {} nodes keeps {} of {} triangles",
+        leaf + 1,
+        top.mesh.triangle_count(),
+        mesh.triangle_count()
+    );
+}
