@@ -47,7 +47,7 @@ use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
 
 use crate::baseline::{optimize_order, permute_by};
-use crate::measure::{UvIndex, components};
+use crate::measure::{Strays, UvIndex, components};
 use crate::reference::NONE;
 use crate::{Decimated, Error, Options, Reference, Result, decimate_on};
 
@@ -218,11 +218,21 @@ struct Pending<K> {
     children: Vec<Kept<K>>,
 }
 
+/// What a layer's nodes' errors are measured by: the component of each of its
+/// triangles (a vertex is looked for in its own), and what reaches a stray corner
+/// (left out: where a coarser node draws a texture coordinate next to a corner at a
+/// depth of 1e11 is no measure of the rest of it, and such a node's error of 1e11
+/// kept it from ever being chosen).
+struct LayerParts {
+    labels: Vec<u32>,
+    strays: Strays,
+}
+
 /// What building a layer's quadtree reads.
 struct LayerBuild<'a> {
     layer: &'a SurfaceMesh,
     reference: Reference<'a>,
-    labels: Vec<u32>,
+    parts: LayerParts,
     dims: [u32; 2],
     options: &'a BuildOptions,
     /// Triangles of the layer by leaf tile (row by row): those of leaf `id` are
@@ -259,7 +269,10 @@ pub(crate) fn build_layer_with<K: Send>(
     let build = LayerBuild {
         layer,
         reference: Reference::new(layer)?,
-        labels: components(layer),
+        parts: LayerParts {
+            labels: components(layer),
+            strays: Strays::of(layer),
+        },
         dims,
         options,
         by_tile,
@@ -376,7 +389,7 @@ impl LayerBuild<'_> {
             let cells = self.span_cells(level, tile);
             let node = parent(
                 &self.reference,
-                &self.labels,
+                &self.parts,
                 &nodes,
                 level,
                 tile,
@@ -423,7 +436,7 @@ impl LayerBuild<'_> {
             };
             let mut node = parent(
                 &self.reference,
-                &self.labels,
+                &self.parts,
                 &[&root],
                 below.level + 1,
                 below.tile,
@@ -504,7 +517,7 @@ fn reorder(node: &mut Node) {
 #[allow(clippy::too_many_arguments)]
 fn parent(
     reference: &Reference,
-    labels: &[u32],
+    parts: &LayerParts,
     children: &[&Node],
     level: u32,
     tile: [u32; 2],
@@ -581,7 +594,14 @@ fn parent(
 
     // Error: distance to the children's surface at the children's vertices, plus
     // the children's own error.
-    let deviation = |s: &Decimated| vertex_deviation(&merged, &home, &s.mesh, &s.home, labels);
+    let deviation = |s: &Decimated| {
+        vertex_deviation(
+            (&merged, &home),
+            (&s.mesh, &s.home),
+            reference.mesh(),
+            parts,
+        )
+    };
     let mut measured = deviation(&simplified);
     // Over a flat, affine stretch of layer, collapses that change nothing go on past
     // the target, and stay if they changed nothing indeed (a quadric's cost is
@@ -667,25 +687,39 @@ fn parent(
 }
 
 /// Largest horizontal and vertical distance, over the vertices of `from` (vertex `v`
-/// on original triangle `from_home[v]`), to the point of `to` with the same texture
-/// coordinates in the same component (`labels` of the original triangles).
+/// on triangle `from_home[v]` of the layer, `original`), to the point of `to` with the
+/// same texture coordinates in the same component (`parts`), both but where they are
+/// at a stray corner.
 fn vertex_deviation(
-    from: &SurfaceMesh,
-    from_home: &[u32],
-    to: &SurfaceMesh,
-    to_home: &[u32],
-    labels: &[u32],
+    (from, from_home): (&SurfaceMesh, &[u32]),
+    (to, to_home): (&SurfaceMesh, &[u32]),
+    original: &SurfaceMesh,
+    parts: &LayerParts,
 ) -> [f64; 2] {
-    let label_of = |home: u32| labels.get(home as usize).copied().unwrap_or(NONE);
+    let label_of = |home: u32| parts.labels.get(home as usize).copied().unwrap_or(NONE);
+    let stray = |mesh: &SurfaceMesh, home: &[u32], v: u32| {
+        parts
+            .strays
+            .holds(original, home[v as usize], mesh.positions[v as usize])
+    };
     let to_labels = to
         .triangles
         .iter()
-        .map(|t| label_of(to_home[t[0] as usize]))
+        .map(|t| {
+            if t.iter().any(|&v| stray(to, to_home, v)) {
+                NONE
+            } else {
+                label_of(to_home[t[0] as usize])
+            }
+        })
         .collect();
     let index = UvIndex::new(to, to_labels);
     let mut found = Vec::new();
     let mut worst = [0f64; 2];
     for (v, &home) in from_home.iter().enumerate() {
+        if stray(from, from_home, v as u32) {
+            continue;
+        }
         let uv = from.texcoords[v].map(f64::from);
         let p = from.positions[v].map(f64::from);
         let label = label_of(home);

@@ -410,6 +410,86 @@ pub(crate) fn stray_edge_length(mesh: &SurfaceMesh, length: impl Fn(usize, usize
     }
 }
 
+/// What of a surface reaches a stray corner: its edges over [`stray_edge_length`]
+/// (plain lengths), the triangles with one, and the vertices most of whose edges are
+/// such (the corners themselves). Nearly always nothing; measures of a simplified
+/// surface leave it out ([`GridLines`], the hierarchy's node errors).
+pub(crate) struct Strays {
+    /// Edges longer than this reach a stray corner.
+    pub edge: f64,
+    /// The triangles and the corners, both in order.
+    triangles: Vec<u32>,
+    corners: Vec<u32>,
+}
+
+impl Strays {
+    pub fn of(mesh: &SurfaceMesh) -> Strays {
+        let length = |a: usize, b: usize| {
+            let (p, q) = (mesh.positions[a], mesh.positions[b]);
+            (0..3)
+                .map(|k| f64::from(q[k] - p[k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        };
+        let edge = stray_edge_length(mesh, length);
+        let stray = |a: u32, b: u32| length(a as usize, b as usize) > edge;
+        let triangles: Vec<u32> = (0..mesh.triangle_count() as u32)
+            .filter(|&t| {
+                let tri = mesh.triangles[t as usize];
+                (0..3).any(|k| stray(tri[k], tri[(k + 1) % 3]))
+            })
+            .collect();
+        let mut corners = Vec::new();
+        if !triangles.is_empty() {
+            // Per vertex, its stray edges and all its edges (an inner one twice).
+            let mut edges = vec![(0u32, 0u32); mesh.vertex_count()];
+            for tri in &mesh.triangles {
+                for k in 0..3 {
+                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
+                    let long = u32::from(stray(a, b));
+                    for v in [a, b] {
+                        edges[v as usize].0 += long;
+                        edges[v as usize].1 += 1;
+                    }
+                }
+            }
+            corners = (0..mesh.vertex_count() as u32)
+                .filter(|&v| 2 * edges[v as usize].0 > edges[v as usize].1)
+                .collect();
+        }
+        Strays {
+            edge,
+            triangles,
+            corners,
+        }
+    }
+
+    /// Whether the edge `a b` of `mesh` (the surface these are of) reaches a stray
+    /// corner.
+    pub fn has_edge(&self, mesh: &SurfaceMesh, a: u32, b: u32) -> bool {
+        let (p, q) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+        let d2: f64 = (0..3).map(|k| f64::from(q[k] - p[k]).powi(2)).sum();
+        d2 > self.edge * self.edge
+    }
+
+    /// Whether a point `p` at home on triangle `home` of `mesh` (the surface these are
+    /// of) is at a stray corner: `home` reaches one, and `p` lies further than a
+    /// stray edge from its other corners.
+    pub fn holds(&self, mesh: &SurfaceMesh, home: u32, p: [f32; 3]) -> bool {
+        if self.triangles.binary_search(&home).is_err() {
+            return false;
+        }
+        mesh.triangles[home as usize]
+            .iter()
+            .filter(|&u| self.corners.binary_search(u).is_err())
+            .all(|&u| {
+                let q = mesh.positions[u as usize];
+                let d2: f64 = (0..3).map(|k| f64::from(q[k] - p[k]).powi(2)).sum();
+                d2 > self.edge * self.edge
+            })
+    }
+}
+
 /// Cell edges (or triangles) from which [`GridLines`] work on the thread pool.
 const PARALLEL_EDGES: usize = 1 << 14;
 
@@ -424,13 +504,8 @@ pub struct GridLines<'m> {
     /// Ends of each cell edge, and its component.
     edges: Vec<[u32; 3]>,
     per_edge: usize,
-    /// Edges longer than this reach a stray corner ([`stray_edge_length`]) and are
-    /// not sampled.
-    stray_edge: f64,
-    /// Triangles of the original with such an edge, and its vertices most of whose
-    /// edges are such (the stray corners), both in order; nearly always none.
-    stray_triangles: Vec<u32>,
-    stray_corners: Vec<u32>,
+    /// What reaches a stray corner: not sampled, and drawing no sample.
+    strays: Strays,
 }
 
 impl<'m> GridLines<'m> {
@@ -451,39 +526,7 @@ impl<'m> GridLines<'m> {
         labels: Vec<u32>,
         per_edge: usize,
     ) -> Self {
-        let length = |a: usize, b: usize| {
-            let (p, q) = (original.positions[a], original.positions[b]);
-            (0..3)
-                .map(|k| f64::from(q[k] - p[k]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        };
-        let stray_edge = stray_edge_length(original, length);
-        let stray = |a: u32, b: u32| length(a as usize, b as usize) > stray_edge;
-        let stray_triangles: Vec<u32> = (0..original.triangle_count() as u32)
-            .filter(|&t| {
-                let tri = original.triangles[t as usize];
-                (0..3).any(|k| stray(tri[k], tri[(k + 1) % 3]))
-            })
-            .collect();
-        let mut stray_corners = Vec::new();
-        if !stray_triangles.is_empty() {
-            // Per vertex, its stray edges and all its edges (an inner one twice).
-            let mut edges = vec![(0u32, 0u32); original.vertex_count()];
-            for tri in &original.triangles {
-                for k in 0..3 {
-                    let (a, b) = (tri[k], tri[(k + 1) % 3]);
-                    let long = u32::from(stray(a, b));
-                    for v in [a, b] {
-                        edges[v as usize].0 += long;
-                        edges[v as usize].1 += 1;
-                    }
-                }
-            }
-            stray_corners = (0..original.vertex_count() as u32)
-                .filter(|&v| 2 * edges[v as usize].0 > edges[v as usize].1)
-                .collect();
-        }
+        let strays = Strays::of(original);
         // The cell edges of triangles `first..` (`triangles`), in order, into `out`,
         // but those that reach a stray corner.
         let cell_edges = |first: usize, triangles: &[[u32; 3]], out: &mut Vec<[u32; 3]>| {
@@ -506,10 +549,7 @@ impl<'m> GridLines<'m> {
                                 s as usize != t && original.triangles[s as usize].contains(&b)
                             })
                     };
-                    if on_line
-                        && (a < b || boundary())
-                        && length(a as usize, b as usize) <= stray_edge
-                    {
+                    if on_line && (a < b || boundary()) && !strays.has_edge(original, a, b) {
                         out.push([a, b, labels[t]]);
                     }
                 }
@@ -537,35 +577,21 @@ impl<'m> GridLines<'m> {
             labels,
             edges,
             per_edge: per_edge.max(1),
-            stray_edge,
-            stray_triangles,
-            stray_corners,
+            strays,
         }
     }
 
     /// `simplified` indexed by texture coordinates, each triangle labelled with the
     /// component of the original it lies in: `home[v]` is a triangle of the original
     /// that simplified vertex `v` lies on (or comes from). A triangle with a vertex at
-    /// a stray corner is in none: a vertex whose home triangle reaches one and that
-    /// lies further than a stray edge from that triangle's other corners.
+    /// a stray corner ([`Strays::holds`]) is in none.
     fn index<'s>(&self, simplified: &'s SurfaceMesh, home: &[u32]) -> UvIndex<'s> {
         let labels = &self.labels;
         let stray = |v: u32| {
-            let Some(&h) = home.get(v as usize) else {
-                return false;
-            };
-            if self.stray_triangles.binary_search(&h).is_err() {
-                return false;
-            }
-            let p = simplified.positions[v as usize];
-            self.original.triangles[h as usize]
-                .iter()
-                .filter(|&u| self.stray_corners.binary_search(u).is_err())
-                .all(|&u| {
-                    let q = self.original.positions[u as usize];
-                    let d2: f64 = (0..3).map(|k| f64::from(q[k] - p[k]).powi(2)).sum();
-                    d2 > self.stray_edge * self.stray_edge
-                })
+            home.get(v as usize).is_some_and(|&h| {
+                self.strays
+                    .holds(self.original, h, simplified.positions[v as usize])
+            })
         };
         let simplified_labels: Vec<u32> = simplified
             .triangles
