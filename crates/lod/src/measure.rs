@@ -373,8 +373,9 @@ pub struct Deviation {
 /// that scale texture coordinates, scalar and ties: with them, a curved surface of
 /// 40 x 40 cells with one corner at a depth of 1e11, decimated to 10 %, drew its grid
 /// lines 2.83 from the original's (RMS), against 0.41 without them and 0.33 without
-/// the stray corner. [`GridLines`] leaves them out of the lines it samples and the
-/// triangles that draw them: where a simplified surface draws a texture coordinate
+/// the stray corner. [`GridLines`] leaves them out of the lines it samples, and a
+/// simplified surface's triangles at a stray corner ([`Strays::holds`]) out of those
+/// that draw the samples: where a simplified surface draws a texture coordinate
 /// along a 1e11 m edge is no measure of the rest of it, and the top of a generated
 /// 40 x 30 x 3 model with such a corner had a `vertical` deviation of 5e11, which
 /// pushed every layer below it out of `render --lod`'s depth test. The real models in
@@ -982,40 +983,6 @@ mod tests {
                 "with a stray corner on triangle {t}: {with:?}, without {without:?}"
             );
         }
-    }
-
-    #[test]
-    fn samples_a_simplified_surface_draws_next_to_a_stray_corner_are_left_out() {
-        use strata_grid::synth::{SynthParams, generate};
-        use strata_grid::{Face, layer_surface};
-        let mut grid = generate(&SynthParams {
-            nx: 40,
-            ny: 30,
-            nz: 3,
-            faults: 2,
-            seed: 3,
-        })
-        .unwrap();
-        let sound = layer_surface(&grid, 0, Face::Top, None, grid.display_origin()).unwrap();
-        grid.zcorn[[0, 0, 4]] = 1e11;
-        let stray = layer_surface(&grid, 0, Face::Top, None, grid.display_origin()).unwrap();
-        let measured = |mesh: &SurfaceMesh| {
-            let options = Options {
-                z_scale: 5.0,
-                ..Options::fraction(mesh, 0.1)
-            };
-            let d = decimate(mesh, &options).unwrap();
-            deviation(mesh, &d.mesh, &d.home, 2, 5.0)
-        };
-        // Without leaving out the triangles that reach it, the samples the simplified
-        // surface draws on them were 5e11 off: the surface next to it is drawn
-        // further from the original than without it (78 against 14 at most), but
-        // nothing like that.
-        let (without, with) = (measured(&sound), measured(&stray));
-        assert!(
-            with.vertical < 10.0 * without.vertical && with.rms < 3.0 * without.rms,
-            "with the stray corner {with:?}, without {without:?}"
-        );
     }
 
     #[test]

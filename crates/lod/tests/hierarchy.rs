@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{faulted_grid, layer, shared_data};
+use common::{faulted_grid, layer, one_tile_top, shared_data};
 use std::collections::HashMap;
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
 use strata_lod::measure::deviation;
@@ -1017,19 +1017,7 @@ fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_s
 
 #[test]
 fn over_a_layer_of_one_tile_the_chain_goes_down_to_the_coarsest_node() {
-    use strata_grid::synth::{SynthParams, generate};
-    let mut grid = generate(&SynthParams {
-        nx: 40,
-        ny: 30,
-        nz: 3,
-        faults: 2,
-        seed: 3,
-    })
-    .unwrap();
-    let sound = layer(&grid, 0);
-    // A corner as corrupt as a file's can be.
-    grid.zcorn[[0, 0, 4]] = 1e11;
-    let stray = layer(&grid, 0);
+    let (sound, stray) = (one_tile_top(false), one_tile_top(true));
     for (name, mesh) in [("sound", &sound), ("stray", &stray)] {
         // One leaf: the quadtree's root is the leaf itself, whose error is nothing
         // because it is the input, not because the layer is flat. Taken for flat,

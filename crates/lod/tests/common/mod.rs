@@ -31,6 +31,23 @@ pub fn faulted_grid(nx: usize, ny: usize) -> CornerPointGrid {
     .expect("generator")
 }
 
+/// The top of the first layer of a generated model of one tile (40 x 30 x 3 cells),
+/// with one corner at a depth of 1e11 when `stray`: as corrupt as a file's can be.
+pub fn one_tile_top(stray: bool) -> SurfaceMesh {
+    let mut grid = generate(&SynthParams {
+        nx: 40,
+        ny: 30,
+        nz: 3,
+        faults: 2,
+        seed: 3,
+    })
+    .expect("generator");
+    if stray {
+        grid.zcorn[[0, 0, 4]] = 1e11;
+    }
+    layer(&grid, 0)
+}
+
 /// Top surface of layer `k` of `grid`, with PORO as scalar.
 pub fn layer(grid: &CornerPointGrid, k: usize) -> SurfaceMesh {
     layer_surface(grid, k, Face::Top, Some("PORO"), grid.display_origin()).expect("layer surface")
