@@ -48,7 +48,7 @@ use std::time::Instant;
 use strata_grid::SurfaceMesh;
 
 use crate::cover::CellCover;
-use crate::measure::{Located, LocatedSample, stray_edge_length};
+use crate::measure::{Located, LocatedSample, stray_limit};
 use crate::quadric::{Local, Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
@@ -613,6 +613,24 @@ struct Spot {
     home: u32,
 }
 
+/// Display length (z scaled by `z_scale`) and texture length of the edge `p q` of
+/// `mesh`.
+fn edge_lengths(mesh: &SurfaceMesh, z_scale: f64, p: usize, q: usize) -> (f64, f64) {
+    let d: [f64; 3] = std::array::from_fn(|a| {
+        let scale = if a == 2 { z_scale } else { 1.0 };
+        f64::from(mesh.positions[q][a] - mesh.positions[p][a]) * scale
+    });
+    let t: [f64; 2] =
+        std::array::from_fn(|a| f64::from(mesh.texcoords[q][a] - mesh.texcoords[p][a]));
+    (dot3(d, d).sqrt(), (t[0] * t[0] + t[1] * t[1]).sqrt())
+}
+
+/// Whether an edge of length `l` and texture length `t` is longer than `limit` per
+/// texture unit; one of no texture length is not judged.
+fn stretched(l: f64, t: f64, limit: f64) -> bool {
+    t > 0.0 && l > limit * t
+}
+
 /// The joint space: coordinates relative to a centre, z exaggerated, texture
 /// coordinates and scalar scaled into length units.
 #[derive(Clone, Copy)]
@@ -622,9 +640,11 @@ pub(crate) struct Frame {
     pub uv_scale: f64,
     pub s_mean: f64,
     pub s_scale: f64,
-    /// Edges longer than this (display length) reach a stray corner
-    /// ([`stray_edge_length`]): the surface's scales leave them out.
-    stray_edge: f64,
+    /// Edges longer than this per unit of their texture length (display length) reach
+    /// a stray corner ([`stray_limit`]): the surface's scales leave them out. Per
+    /// texture unit, not plain lengths: a hierarchy's node merges coarse insides with
+    /// borders kept whole, and the long edges of the insides are no strays.
+    stray_stretch: f64,
 }
 
 impl Frame {
@@ -639,27 +659,21 @@ impl Frame {
             }
         }
         let zs = f64::from(options.z_scale);
-        let length = |p: usize, q: usize| {
-            let d: [f64; 3] = std::array::from_fn(|a| {
-                let scale = if a == 2 { zs } else { 1.0 };
-                f64::from(mesh.positions[q][a] - mesh.positions[p][a]) * scale
-            });
-            dot3(d, d).sqrt()
-        };
-        let stray_edge = stray_edge_length(mesh, length);
+        let stray_stretch = stray_limit(mesh, |p, q| {
+            let (l, t) = edge_lengths(mesh, zs, p, q);
+            if t > 0.0 { l / t } else { 0.0 }
+        });
         // Length per texture unit: mean edge length over mean texture edge length.
         let (mut len, mut tex, mut edges) = (0f64, 0f64, 0usize);
         for tri in mesh.triangles.iter().step_by(3) {
             for k in 0..3 {
                 let (p, q) = (tri[k] as usize, tri[(k + 1) % 3] as usize);
-                let l = length(p, q);
-                if l > stray_edge {
+                let (l, t) = edge_lengths(mesh, zs, p, q);
+                if stretched(l, t, stray_stretch) {
                     continue;
                 }
-                let t: [f64; 2] =
-                    std::array::from_fn(|a| f64::from(mesh.texcoords[q][a] - mesh.texcoords[p][a]));
                 len += l;
-                tex += (t[0] * t[0] + t[1] * t[1]).sqrt();
+                tex += t;
                 edges += 1;
             }
         }
@@ -691,8 +705,15 @@ impl Frame {
             uv_scale,
             s_mean,
             s_scale,
-            stray_edge,
+            stray_stretch,
         }
+    }
+
+    /// Whether the edge `p q` of `mesh` (the surface of this frame) reaches a stray
+    /// corner.
+    fn reaches_stray(&self, mesh: &SurfaceMesh, p: usize, q: usize) -> bool {
+        let (l, t) = edge_lengths(mesh, self.z_scale, p, q);
+        stretched(l, t, self.stray_stretch)
     }
 
     fn point(&self, p: [f64; 3], uv: [f64; 2], s: f64) -> Point {
@@ -952,12 +973,11 @@ impl<'a> Collapser<'a> {
         let mean_edge2 = {
             let (mut sum, mut k) = (0.0, 0usize);
             for tri in mesh.triangles.iter().step_by(7) {
-                let e = sub3(&x[tri[1] as usize], &x[tri[0] as usize]);
-                let e2 = dot3(e, e);
-                if e2 > frame.stray_edge * frame.stray_edge {
+                if frame.reaches_stray(mesh, tri[0] as usize, tri[1] as usize) {
                     continue;
                 }
-                sum += e2;
+                let e = sub3(&x[tri[1] as usize], &x[tri[0] as usize]);
+                sum += dot3(e, e);
                 k += 1;
             }
             if k > 0 { sum / k as f64 } else { 1.0 }

@@ -387,9 +387,10 @@ const STRAY_EDGE_QUARTILES: f64 = 1.0 + strata_grid::STRAY_SPREADS;
 /// many, evenly spread over the triangles.
 const STRAY_EDGE_SAMPLES: usize = 1 << 14;
 
-/// [`STRAY_EDGE_QUARTILES`] times the upper quartile of the `length`s of `mesh`'s
-/// edges (from at most [`STRAY_EDGE_SAMPLES`] of them); infinite without edges.
-pub(crate) fn stray_edge_length(mesh: &SurfaceMesh, length: impl Fn(usize, usize) -> f64) -> f64 {
+/// [`STRAY_EDGE_QUARTILES`] times the upper quartile of `length` (a length, or a
+/// length per texture unit) over `mesh`'s edges (from at most [`STRAY_EDGE_SAMPLES`]
+/// of them); infinite without edges.
+pub(crate) fn stray_limit(mesh: &SurfaceMesh, length: impl Fn(usize, usize) -> f64) -> f64 {
     let stride = mesh.triangle_count().div_ceil(STRAY_EDGE_SAMPLES).max(1);
     let mut lengths: Vec<f64> = mesh
         .triangles
@@ -411,7 +412,7 @@ pub(crate) fn stray_edge_length(mesh: &SurfaceMesh, length: impl Fn(usize, usize
     }
 }
 
-/// What of a surface reaches a stray corner: its edges over [`stray_edge_length`]
+/// What of a surface reaches a stray corner: its edges over [`stray_limit`]
 /// (plain lengths), the triangles with one, and the vertices most of whose edges are
 /// such (the corners themselves). Nearly always nothing; measures of a simplified
 /// surface leave it out ([`GridLines`], the hierarchy's node errors).
@@ -432,7 +433,7 @@ impl Strays {
                 .sum::<f64>()
                 .sqrt()
         };
-        let edge = stray_edge_length(mesh, length);
+        let edge = stray_limit(mesh, length);
         let stray = |a: u32, b: u32| length(a as usize, b as usize) > edge;
         let triangles: Vec<u32> = (0..mesh.triangle_count() as u32)
             .filter(|&t| {
