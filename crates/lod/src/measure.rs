@@ -368,7 +368,8 @@ pub struct Deviation {
 }
 
 /// Edges longer than this many times the upper quartile of a surface's edge lengths
-/// reach a stray corner (a corrupt depth or pillar coordinate, see strata-grid's
+/// (for decimation, of their lengths per texture unit) reach a stray corner (a
+/// corrupt depth or pillar coordinate, see strata-grid's
 /// `CornerPointGrid::stray_corners`). Decimation leaves them out of the mean lengths
 /// that scale texture coordinates, scalar and ties: with them, a curved surface of
 /// 40 x 40 cells with one corner at a depth of 1e11, decimated to 10 %, drew its grid
