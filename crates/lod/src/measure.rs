@@ -427,13 +427,7 @@ pub(crate) struct Strays {
 
 impl Strays {
     pub fn of(mesh: &SurfaceMesh) -> Strays {
-        let length = |a: usize, b: usize| {
-            let (p, q) = (mesh.positions[a], mesh.positions[b]);
-            (0..3)
-                .map(|k| f64::from(q[k] - p[k]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        };
+        let length = |a: usize, b: usize| plain_distance(mesh.positions[a], mesh.positions[b]);
         let edge = stray_limit(mesh, length);
         let stray = |a: u32, b: u32| length(a as usize, b as usize) > edge;
         let triangles: Vec<u32> = (0..mesh.triangle_count() as u32)
@@ -470,9 +464,7 @@ impl Strays {
     /// Whether the edge `a b` of `mesh` (the surface these are of) reaches a stray
     /// corner.
     pub fn has_edge(&self, mesh: &SurfaceMesh, a: u32, b: u32) -> bool {
-        let (p, q) = (mesh.positions[a as usize], mesh.positions[b as usize]);
-        let d2: f64 = (0..3).map(|k| f64::from(q[k] - p[k]).powi(2)).sum();
-        d2 > self.edge * self.edge
+        plain_distance(mesh.positions[a as usize], mesh.positions[b as usize]) > self.edge
     }
 
     /// Whether a point `p` at home on triangle `home` of `mesh` (the surface these are
@@ -485,11 +477,7 @@ impl Strays {
         mesh.triangles[home as usize]
             .iter()
             .filter(|&u| self.corners.binary_search(u).is_err())
-            .all(|&u| {
-                let q = mesh.positions[u as usize];
-                let d2: f64 = (0..3).map(|k| f64::from(q[k] - p[k]).powi(2)).sum();
-                d2 > self.edge * self.edge
-            })
+            .all(|&u| plain_distance(mesh.positions[u as usize], p) > self.edge)
     }
 }
 
@@ -740,6 +728,11 @@ fn locate(
     let nearest = index.nearest(uv, label, 2)?;
     found.push(nearest);
     Some(false)
+}
+
+/// Distance between two points of a mesh, z unscaled.
+fn plain_distance(p: [f32; 3], q: [f32; 3]) -> f64 {
+    distance(p.map(f64::from), q.map(f64::from), 1.0)
 }
 
 /// Distance between two points, their z difference scaled by `z_scale`.
