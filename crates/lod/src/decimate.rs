@@ -569,6 +569,60 @@ struct Scratch {
     block: Vec<u32>,
     minima: Vec<u32>,
     ranks: Vec<(u32, u32)>,
+    /// [`sort_by_cost`]'s two buffers.
+    keyed: [Vec<(u32, u32)>; 2],
+}
+
+/// Sorts `open` (indices into `candidates`) by cost, then by the edge's ends, as a
+/// comparison sort by `(cost, a, b)` would: a radix sort on the cost's bits (costs
+/// are never negative, so their bits order as they do), then each run of equal costs
+/// by its ends. A pass sorts nearly every edge of the mesh, and by comparisons that
+/// was 7 % of the instructions of Reek's layers' decimation (callgrind).
+fn sort_by_cost(open: &mut Vec<u32>, candidates: &[Candidate], keyed: &mut [Vec<(u32, u32)>; 2]) {
+    const DIGIT: u32 = 8;
+    const BUCKETS: usize = 1 << DIGIT;
+    let [sorted, spare] = keyed;
+    sorted.clear();
+    sorted.extend(
+        open.iter()
+            .map(|&i| (candidates[i as usize].cost.to_bits(), i)),
+    );
+    let n = sorted.len();
+    let mut counts = [[0u32; BUCKETS]; 4];
+    for &(key, _) in sorted.iter() {
+        for (d, count) in counts.iter_mut().enumerate() {
+            count[((key >> (DIGIT * d as u32)) as usize) & (BUCKETS - 1)] += 1;
+        }
+    }
+    spare.resize(n, (0, 0));
+    for (d, count) in counts.iter().enumerate() {
+        // A digit all keys share moves nothing.
+        if count.iter().any(|&c| c as usize == n) {
+            continue;
+        }
+        let mut next = [0u32; BUCKETS];
+        let mut total = 0;
+        for (slot, &c) in next.iter_mut().zip(count) {
+            *slot = total;
+            total += c;
+        }
+        for &item in sorted.iter() {
+            let digit = ((item.0 >> (DIGIT * d as u32)) as usize) & (BUCKETS - 1);
+            spare[next[digit] as usize] = item;
+            next[digit] += 1;
+        }
+        std::mem::swap(sorted, spare);
+    }
+    for run in sorted.chunk_by_mut(|x, y| x.0 == y.0) {
+        if run.len() > 1 {
+            run.sort_unstable_by_key(|&(_, i)| {
+                let c = &candidates[i as usize];
+                (c.a, c.b)
+            });
+        }
+    }
+    open.clear();
+    open.extend(sorted.iter().map(|&(_, i)| i));
 }
 
 /// A candidate collapse of a pass.
@@ -1829,10 +1883,7 @@ impl<'a> Collapser<'a> {
             self.scratch.block = block;
         }
         // What the rounds left, cheapest first.
-        open.sort_unstable_by_key(|&i| {
-            let c = &self.candidates[i as usize];
-            (c.cost.to_bits(), c.a, c.b)
-        });
+        sort_by_cost(&mut open, &self.candidates, &mut self.scratch.keyed);
         for &i in &open {
             if self.live <= target {
                 break;
@@ -2661,6 +2712,46 @@ mod tests {
     fn candidates_stay_small() {
         // A pass holds one per edge: see `Choice::Point`.
         assert_eq!(std::mem::size_of::<Candidate>(), 28);
+    }
+
+    #[test]
+    fn candidates_sort_by_cost_then_by_their_ends() {
+        // Costs over many exponents and bytes, with runs of equal costs (flat regions)
+        // whose ends are out of order.
+        let candidates: Vec<Candidate> = (0..5000u32)
+            .map(|i| {
+                let h = i.wrapping_mul(0x9E37_79B1);
+                let cost = match h % 4 {
+                    0 => 0.0,
+                    1 => 1e-3,
+                    _ => f32::from_bits(h >> 2) * 1e-20,
+                };
+                Candidate {
+                    cost,
+                    a: h % 97,
+                    b: (h >> 8) % 89,
+                    choice: Choice::KeepA,
+                }
+            })
+            .collect();
+        let mut open: Vec<u32> = (0..candidates.len() as u32).rev().collect();
+        let mut expected = open.clone();
+        expected.sort_by_key(|&i| {
+            let c = &candidates[i as usize];
+            (c.cost.to_bits(), c.a, c.b)
+        });
+        sort_by_cost(&mut open, &candidates, &mut Default::default());
+        let key = |i: u32| {
+            let c = &candidates[i as usize];
+            (c.cost.to_bits(), c.a, c.b)
+        };
+        assert_eq!(
+            open.iter().map(|&i| key(i)).collect::<Vec<_>>(),
+            expected.iter().map(|&i| key(i)).collect::<Vec<_>>()
+        );
+        let mut seen = open.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..candidates.len() as u32).collect::<Vec<_>>());
     }
 
     #[test]
