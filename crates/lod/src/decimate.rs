@@ -2734,17 +2734,14 @@ mod tests {
                 }
             })
             .collect();
-        let mut open: Vec<u32> = (0..candidates.len() as u32).rev().collect();
-        let mut expected = open.clone();
-        expected.sort_by_key(|&i| {
-            let c = &candidates[i as usize];
-            (c.cost.to_bits(), c.a, c.b)
-        });
-        sort_by_cost(&mut open, &candidates, &mut Default::default());
         let key = |i: u32| {
             let c = &candidates[i as usize];
             (c.cost.to_bits(), c.a, c.b)
         };
+        let mut open: Vec<u32> = (0..candidates.len() as u32).rev().collect();
+        let mut expected = open.clone();
+        expected.sort_by_key(|&i| key(i));
+        sort_by_cost(&mut open, &candidates, &mut Default::default());
         assert_eq!(
             open.iter().map(|&i| key(i)).collect::<Vec<_>>(),
             expected.iter().map(|&i| key(i)).collect::<Vec<_>>()
