@@ -1230,8 +1230,7 @@ fn save_frame(dir: &Path, name: &str, rgba: &[u8]) -> Result<()> {
     Ok(())
 }
 
-/// One timing of `method` on `layers`, its runs repeated while under
-/// [`MIN_CPU_SECONDS`]; times per run.
+/// One speed measurement ([`speed_sample`]); times per run.
 struct SpeedSample {
     repeats: usize,
     seconds: f64,
@@ -1255,6 +1254,8 @@ fn median_sample(mut samples: Vec<SpeedSample>) -> (SpeedSample, [f64; 2]) {
     (median, extremes)
 }
 
+/// Times `method` on `layers` at the goal's budget, in `threads`, its runs repeated
+/// while under [`MIN_CPU_SECONDS`].
 fn speed_sample(layers: &[SurfaceMesh], method: Method, threads: usize) -> Result<SpeedSample> {
     // The threads take no more CPU time than wall time together, so the CPU clock is
     // read (from /proc, which costs a small input's run) only once the wall clock
