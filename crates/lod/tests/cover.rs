@@ -148,17 +148,16 @@ fn a_staircase_outline_goes_below_its_corner_bound_and_keeps_its_cells() {
     };
     let grown = area(&out.mesh) - area(&mesh);
     assert!(grown > 2.0 * 25.0, "grew by {grown}");
-    // Without cover, the same budget cuts the staircase's corners off.
+    // Without cover, the same budget (under the outline bound) cuts some of the
+    // staircase's corners inward, and the samples there are lost.
     let options = Options {
         z_scale: 5.0,
         ..Options::fraction(&mesh, 0.02)
     };
     let kept = decimate(&mesh, &options).expect("decimate");
+    assert!(kept.mesh.triangle_count() < bound.min_triangles);
     let (lost, _, _) = coverage(&mesh, &kept);
-    assert!(
-        lost > samples / 20,
-        "{lost} of {samples} samples lost without cover"
-    );
+    assert!(lost > 0, "no sample lost without cover");
 }
 
 #[test]
