@@ -461,9 +461,8 @@ mod tests {
 
     #[test]
     fn points_round_trip_through_text() {
-        let dir = std::env::temp_dir().join(format!("strata-terrain-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join("picks.csv");
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("picks.csv");
         let points = vec![[456_000.25, 6_780_000.5, -1600.125], [1.0, 2.0, 3.0]];
         write_points(&path, &points).unwrap();
         assert_eq!(read_points(&path, false).unwrap(), points);
@@ -474,6 +473,5 @@ mod tests {
         assert!(err.contains(":6:"), "{err}");
         std::fs::write(&path, "1 2\n3 4 5\n").unwrap();
         assert_eq!(read_polyline(&path).unwrap(), vec![[1.0, 2.0], [3.0, 4.0]]);
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

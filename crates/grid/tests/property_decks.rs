@@ -18,8 +18,8 @@ fn shared_data() -> Option<&'static Path> {
 
 #[test]
 fn a_property_deck_adds_its_arrays_cell_by_cell() {
-    let dir = tempfile_dir();
-    let deck = dir.join("props.grdecl");
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("props.grdecl");
     // 3 x 2 x 1 cells: PORO with a repeat, NTG with a default (undefined) value.
     std::fs::write(
         &deck,
@@ -72,10 +72,4 @@ fn reek_egrid_gets_poro_from_its_grdecl() {
     );
     // The deck's first value belongs to cell (1, 1, 1).
     assert!((poro[[0, 0, 0]] - 0.177_493_92).abs() < 1e-6);
-}
-
-fn tempfile_dir() -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("strata-props-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }

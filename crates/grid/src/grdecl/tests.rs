@@ -38,26 +38,11 @@ fn assert_error(text: &str, line: usize, keyword: &str, what: &str) {
 }
 
 /// A fresh scratch folder for tests that need files, removed when dropped.
-struct Scratch(PathBuf);
-
-impl std::ops::Deref for Scratch {
-    type Target = Path;
-    fn deref(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn scratch(name: &str) -> Scratch {
-    let dir = std::env::temp_dir().join(format!("strata-grdecl-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    Scratch(dir)
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("strata-grdecl-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// Pillars of a 2 x 1 grid of unit columns, vertical, x = 0, 1, 2.
@@ -270,27 +255,27 @@ fn missing_geometry_is_a_model_error() {
 #[test]
 fn includes_resolve_from_the_root_folder() {
     let dir = scratch("include");
-    std::fs::create_dir_all(dir.join("sub")).unwrap();
-    std::fs::write(dir.join("sub/coord.inc"), COORD_2X1).unwrap();
+    std::fs::create_dir_all(dir.path().join("sub")).unwrap();
+    std::fs::write(dir.path().join("sub/coord.inc"), COORD_2X1).unwrap();
     // Included from sub/, but named relative to the root deck's folder.
     std::fs::write(
-        dir.join("sub/grid.inc"),
+        dir.path().join("sub/grid.inc"),
         "INCLUDE\n sub/coord.inc /\nINCLUDE\n'z.inc'/\n",
     )
     .unwrap();
-    std::fs::write(dir.join("z.inc"), "ZCORN\n 16*5 /\n").unwrap();
+    std::fs::write(dir.path().join("z.inc"), "ZCORN\n 16*5 /\n").unwrap();
     std::fs::write(
-        dir.join("root.grdecl"),
+        dir.path().join("root.grdecl"),
         "SPECGRID\n 2 1 1 /\nINCLUDE\n  'sub/grid.inc'  -- the grid\n/\n",
     )
     .unwrap();
-    let g = read(&dir.join("root.grdecl"), &ReadOptions::default()).unwrap();
+    let g = read(&dir.path().join("root.grdecl"), &ReadOptions::default()).unwrap();
     assert_eq!(g.zcorn[[1, 1, 3]], 5.0);
     assert_eq!(g.coord[[1, 2, 0]], 2.0);
 
     // In memory, includes resolve from the folder of the path given.
     let g = parse_bytes(
-        &dir.join("virtual.grdecl"),
+        &dir.path().join("virtual.grdecl"),
         b"SPECGRID\n 2 1 1 /\nINCLUDE\n 'sub/grid.inc' /",
         &ReadOptions::default(),
     )
@@ -301,16 +286,16 @@ fn includes_resolve_from_the_root_folder() {
 #[test]
 fn include_cycles_are_refused() {
     let dir = scratch("cycle");
-    std::fs::write(dir.join("a.inc"), "NOECHO\nINCLUDE\n 'b.inc' /\n").unwrap();
-    std::fs::write(dir.join("b.inc"), "\n\nINCLUDE\n 'a.inc' /\n").unwrap();
-    std::fs::write(dir.join("self.inc"), "INCLUDE\n 'self.inc' /\n").unwrap();
-    std::fs::write(dir.join("root.grdecl"), "INCLUDE\n 'a.inc' /\n").unwrap();
-    let e = read(&dir.join("root.grdecl"), &ReadOptions::default())
+    std::fs::write(dir.path().join("a.inc"), "NOECHO\nINCLUDE\n 'b.inc' /\n").unwrap();
+    std::fs::write(dir.path().join("b.inc"), "\n\nINCLUDE\n 'a.inc' /\n").unwrap();
+    std::fs::write(dir.path().join("self.inc"), "INCLUDE\n 'self.inc' /\n").unwrap();
+    std::fs::write(dir.path().join("root.grdecl"), "INCLUDE\n 'a.inc' /\n").unwrap();
+    let e = read(&dir.path().join("root.grdecl"), &ReadOptions::default())
         .unwrap_err()
         .to_string();
     assert!(e.contains("b.inc:3: keyword INCLUDE: include cycle"), "{e}");
     assert!(e.contains("a.inc -> ") && e.ends_with("a.inc"), "{e}");
-    let e = read(&dir.join("self.inc"), &ReadOptions::default())
+    let e = read(&dir.path().join("self.inc"), &ReadOptions::default())
         .unwrap_err()
         .to_string();
     assert!(
@@ -318,19 +303,19 @@ fn include_cycles_are_refused() {
         "{e}"
     );
     // Reading the same file twice is not a cycle.
-    std::fs::write(dir.join("n.inc"), "NOECHO\n").unwrap();
+    std::fs::write(dir.path().join("n.inc"), "NOECHO\n").unwrap();
     std::fs::write(
-        dir.join("twice.grdecl"),
+        dir.path().join("twice.grdecl"),
         format!("INCLUDE\n 'n.inc' /\nINCLUDE\n 'n.inc' /\n{}", deck_2x1("")),
     )
     .unwrap();
-    assert!(read(&dir.join("twice.grdecl"), &ReadOptions::default()).is_ok());
+    assert!(read(&dir.path().join("twice.grdecl"), &ReadOptions::default()).is_ok());
 }
 
 #[test]
 fn missing_include_is_an_error_unless_grid_only() {
     let dir = scratch("missing");
-    let root = dir.join("root.grdecl");
+    let root = dir.path().join("root.grdecl");
     std::fs::write(&root, deck_2x1("\nINCLUDE\n 'poro.inc' /\nNTG\n 2*1 /\n")).unwrap();
     let e = read(&root, &ReadOptions::default())
         .unwrap_err()
@@ -349,11 +334,11 @@ fn missing_include_is_an_error_unless_grid_only() {
         .to_string();
     assert!(e.contains("not followed by '/'"), "{e}");
     // A directory is not a file to include.
-    let e = read(&dir.join("r2.grdecl"), &ReadOptions::default());
+    let e = read(&dir.path().join("r2.grdecl"), &ReadOptions::default());
     assert!(e.is_err());
-    std::fs::create_dir_all(dir.join("d.inc")).unwrap();
-    std::fs::write(dir.join("r2.grdecl"), "INCLUDE\n 'd.inc' /\n").unwrap();
-    let e = read(&dir.join("r2.grdecl"), &ReadOptions::default()).unwrap_err();
+    std::fs::create_dir_all(dir.path().join("d.inc")).unwrap();
+    std::fs::write(dir.path().join("r2.grdecl"), "INCLUDE\n 'd.inc' /\n").unwrap();
+    let e = read(&dir.path().join("r2.grdecl"), &ReadOptions::default()).unwrap_err();
     assert!(e.to_string().contains("not a regular file"), "{e}");
 }
 
@@ -527,9 +512,9 @@ ZCORN
  garbage after END
 ";
     let dir = scratch("data");
-    std::fs::write(dir.join("coord.inc"), COORD_2X1).unwrap();
-    std::fs::write(dir.join("CASE.DATA"), text).unwrap();
-    let g = read(&dir.join("CASE.DATA"), &ReadOptions::default()).unwrap();
+    std::fs::write(dir.path().join("coord.inc"), COORD_2X1).unwrap();
+    std::fs::write(dir.path().join("CASE.DATA"), text).unwrap();
+    let g = read(&dir.path().join("CASE.DATA"), &ReadOptions::default()).unwrap();
     assert_eq!(g.cell_count(), 2);
     assert_eq!(g.units, Units::Metres);
     assert_eq!(g.zcorn[[0, 0, 0]], 10.0);
@@ -538,8 +523,8 @@ ZCORN
     assert!(g.warnings.is_empty());
 
     let field = text.replace("METRIC", "FIELD");
-    std::fs::write(dir.join("FIELD.DATA"), field).unwrap();
-    let g = read(&dir.join("FIELD.DATA"), &ReadOptions::default()).unwrap();
+    std::fs::write(dir.path().join("FIELD.DATA"), field).unwrap();
+    let g = read(&dir.path().join("FIELD.DATA"), &ReadOptions::default()).unwrap();
     assert_eq!(g.units, Units::Feet);
 }
 
@@ -572,7 +557,7 @@ fn round_trip_is_exact() {
     g.set_property("INF", inf).unwrap();
     g.coord[[0, 0, 0]] = 0.1 + 0.2;
     let dir = scratch("roundtrip");
-    let path = dir.join("model.grdecl");
+    let path = dir.path().join("model.grdecl");
     write(&g, &path).unwrap();
     let back = read(&path, &ReadOptions::default()).unwrap();
     assert_eq!(back.dims(), g.dims());
@@ -597,14 +582,17 @@ fn round_trip_is_exact() {
     let mut bad = g.clone();
     bad.set_property("TOO_LONG_NAME", g.property("PORO").unwrap().clone())
         .unwrap();
-    let e = write(&bad, &dir.join("bad.grdecl")).unwrap_err();
+    let e = write(&bad, &dir.path().join("bad.grdecl")).unwrap_err();
     assert!(e.to_string().contains("TOO_LONG_NAME"), "{e}");
     for name in ["ZCORN", "A--B", "FAULTS", "GRID"] {
         let mut bad = g.clone();
         bad.properties.clear();
         bad.set_property(name, g.property("PORO").unwrap().clone())
             .unwrap();
-        assert!(write(&bad, &dir.join("bad.grdecl")).is_err(), "{name}");
+        assert!(
+            write(&bad, &dir.path().join("bad.grdecl")).is_err(),
+            "{name}"
+        );
     }
 }
 
