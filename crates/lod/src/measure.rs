@@ -644,18 +644,25 @@ impl<'m> GridLines<'m> {
             }
             sums
         };
-        // Small surfaces (a layer the bench measures at a small budget) are measured on the
-        // calling thread: handing them to the pool cost more than the work.
-        let sums = if self.edges.len() < PARALLEL_EDGES {
+        let measure_all = |edges: &[[u32; 3]]| {
             let mut found = Vec::new();
-            self.edges
+            edges
                 .iter()
                 .fold(Sums::default(), |acc, e| acc.merge(measure(&mut found, e)))
+        };
+        // Small surfaces (a layer the bench measures at a small budget) are measured on the
+        // calling thread: handing them to the pool cost more than the work. Large ones in
+        // fixed chunks summed in order, so that the RMS does not depend on how the pool
+        // split the work (a reduction in its order changed the last digit between runs).
+        let sums = if self.edges.len() < PARALLEL_EDGES {
+            measure_all(&self.edges)
         } else {
             self.edges
-                .par_iter()
-                .map_init(Vec::new, measure)
-                .reduce(Sums::default, Sums::merge)
+                .par_chunks(PARALLEL_EDGES / 4)
+                .map(measure_all)
+                .collect::<Vec<_>>()
+                .into_iter()
+                .fold(Sums::default(), Sums::merge)
         };
         sums.deviation()
     }
@@ -1023,6 +1030,38 @@ mod tests {
             (d.max - 10.0).abs() < 1e-4 && (d.rms - 10.0).abs() < 1e-4,
             "{d:?}"
         );
+    }
+
+    #[test]
+    fn large_surfaces_measure_the_same_on_any_pool() {
+        let mesh = curved(130);
+        let lines = GridLines::of(&mesh, 2);
+        assert!(lines.edges.len() >= PARALLEL_EDGES);
+        let simplified = decimate(
+            &mesh,
+            &Options {
+                target_triangles: 2_000,
+                ..Options::default()
+            },
+        )
+        .unwrap();
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| lines.deviation(&simplified.mesh, &simplified.home, 5.0))
+        };
+        let one = on(1);
+        assert!(one.rms > 0.0, "{one:?}");
+        for threads in [2, 3, 8] {
+            let other = on(threads);
+            assert_eq!(
+                (one.rms.to_bits(), one.max.to_bits(), one.samples),
+                (other.rms.to_bits(), other.max.to_bits(), other.samples),
+                "{threads} threads: {other:?} against {one:?}"
+            );
+        }
     }
 
     #[test]
