@@ -484,6 +484,10 @@ impl Strays {
 /// Cell edges (or triangles) from which [`GridLines`] work on the thread pool.
 const PARALLEL_EDGES: usize = 1 << 14;
 
+/// The fixed share of cell edges (or triangles) one task of the pool takes: fixed, so
+/// that results come out in the same order, and sum alike, on any pool.
+const EDGES_PER_TASK: usize = PARALLEL_EDGES / 4;
+
 /// The original grid lines a [`deviation`] samples: every cell edge of a surface
 /// (every edge along which one texture coordinate is constant: the diagonals that
 /// split cell quads are no grid lines) once, with the component it lies in. Built
@@ -555,11 +559,10 @@ impl<'m> GridLines<'m> {
         let edges = if triangles.len() < PARALLEL_EDGES {
             of_part(0, triangles)
         } else {
-            let chunk = PARALLEL_EDGES / 4;
             let parts: Vec<Vec<[u32; 3]>> = triangles
-                .par_chunks(chunk)
+                .par_chunks(EDGES_PER_TASK)
                 .enumerate()
-                .map(|(i, part)| of_part(i * chunk, part))
+                .map(|(i, part)| of_part(i * EDGES_PER_TASK, part))
                 .collect();
             parts.concat()
         };
@@ -651,14 +654,14 @@ impl<'m> GridLines<'m> {
                 .fold(Sums::default(), |acc, e| acc.merge(measure(&mut found, e)))
         };
         // Small surfaces (a layer the bench measures at a small budget) are measured on the
-        // calling thread: handing them to the pool cost more than the work. Large ones in
-        // fixed chunks summed in order, so that the RMS does not depend on how the pool
-        // split the work (a reduction in its order changed the last digit between runs).
+        // calling thread: handing them to the pool cost more than the work. Large ones are
+        // summed task by task in order (a reduction in the pool's own order changed the
+        // last digit between runs).
         let sums = if self.edges.len() < PARALLEL_EDGES {
             measure_all(&self.edges)
         } else {
             self.edges
-                .par_chunks(PARALLEL_EDGES / 4)
+                .par_chunks(EDGES_PER_TASK)
                 .map(measure_all)
                 .collect::<Vec<_>>()
                 .into_iter()
@@ -701,7 +704,7 @@ impl<'m> GridLines<'m> {
         } else {
             let chunks: Vec<Vec<LocatedSample>> = self
                 .edges
-                .par_chunks(PARALLEL_EDGES / 4)
+                .par_chunks(EDGES_PER_TASK)
                 .map(|edges| {
                     let mut out = Vec::with_capacity(edges.len() * self.per_edge);
                     place(edges, &mut out);
