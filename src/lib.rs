@@ -1,11 +1,43 @@
 //! strata: reservoir simulation grids, from file to anti-aliased wireframe.
 //!
-//! This facade re-exports the three crates of the workspace; the `strata` binary is
-//! the command-line tool built on them.
+//! The facade of the workspace and its scene engine. A [`Scene`] says everything a
+//! picture depends on (model, layers, colours, lines, level of detail, camera, size);
+//! a [`SceneRenderer`] reads the model, builds the surfaces once and draws a frame
+//! for each new camera or style, rebuilding only what a change of scene invalidates.
+//! Every front end (the `strata` command line, and the viewer and Python package to
+//! come) only turns its input into a `Scene` and shows the frames.
+//!
+//! ```no_run
+//! use strata::{Scene, SceneRenderer};
+//!
+//! # fn main() -> strata::Result<()> {
+//! let mut scene = Scene::of_model("data/sample.grdecl");
+//! scene.sides = true;
+//! let mut engine = SceneRenderer::new(scene.clone())?;
+//! engine.render()?.image.save("strata.png").ok();
+//! scene.camera.azimuth = 120.0; // a new camera: nothing is read or built again
+//! engine.set_scene(scene)?;
+//! let frame = engine.render()?;
+//! println!("{}", frame.report.drawn);
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! The crates underneath are re-exported: [`grid`] (the model, readers, layer
+//! surfaces), [`lod`] (decimation and hierarchies) and [`render`] (wgpu).
 
 pub use strata_grid as grid;
 pub use strata_lod as lod;
 pub use strata_render as render;
 
 pub mod bench;
+pub mod engine;
+mod error;
+pub mod memory;
+pub mod progress;
 pub mod scene;
+pub mod surfaces;
+
+pub use engine::{Counters, Frame, FrameReport, Note, SceneRenderer};
+pub use error::{Context, Error, Result};
+pub use scene::Scene;

@@ -14,7 +14,7 @@ use strata::grid::ndarray::Array3;
 use strata::grid::synth::{SynthParams, generate};
 use strata::grid::{CornerPointGrid, ReadOptions, ReportStep, open_with, save};
 use strata::lod::{BuildOptions, LodFile, Options, ViewPoint, build_file, decimate_chosen, stitch};
-use strata::scene::{SceneOptions, build_stacked_surfaces};
+use strata::surfaces::{SceneOptions, build_stacked_surfaces};
 
 /// A fixed linear congruential sequence.
 struct Sequence(u64);

@@ -11,7 +11,7 @@ use strata::grid::SurfaceMesh;
 use strata::lod::{Options, decimate};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
-use strata::scene::{SceneOptions, build};
+use strata::surfaces::{SceneOptions, build};
 
 const WIDTH: u32 = 500;
 const HEIGHT: u32 = 400;

@@ -13,7 +13,7 @@ use std::process::{Command, Output};
 use strata::grid::SurfaceMesh;
 use strata::lod::measure::outline_bound;
 use strata::render::image;
-use strata::scene::{SceneOptions, build_surfaces};
+use strata::surfaces::{SceneOptions, build_surfaces};
 
 fn strata(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_strata"))

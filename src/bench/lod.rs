@@ -601,7 +601,7 @@ impl Scene {
                 bounds,
             })
             .collect();
-        let range = crate::scene::colour_range(original.scalars.iter().copied());
+        let range = crate::surfaces::colour_range(original.scalars.iter().copied());
         Some(Scene { views, range })
     }
 

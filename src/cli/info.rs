@@ -217,24 +217,27 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         }
         return hierarchy_info(path, args.json);
     }
-    let (path, grid) = super::open_model(args.model.as_deref(), &args.read)?;
-    let file = path.display().to_string();
+    let (model, notes) = super::open_model(args.model.as_deref(), &args.read)?;
+    let file = model.source.path.display().to_string();
+    let warnings = notes
+        .into_iter()
+        .filter_map(|note| match note {
+            strata::Note::Warning(text) => Some(text),
+            _ => None,
+        })
+        .collect();
     match args.cell {
-        Some(cell) => cell_info(&grid, file, cell, args.json),
-        None => model_info(&grid, file, args.json),
+        Some(cell) => cell_info(&model.grid, file, cell, args.json),
+        None => model_info(&model.grid, file, warnings, args.json),
     }
 }
 
-fn model_info(grid: &CornerPointGrid, file: String, json: bool) -> Result<()> {
-    let warnings = grid
-        .warnings
-        .iter()
-        .cloned()
-        .chain(
-            grid.stray_corners()
-                .map(|s| super::stray_warning(&s, Path::new(&file))),
-        )
-        .collect();
+fn model_info(
+    grid: &CornerPointGrid,
+    file: String,
+    warnings: Vec<String>,
+    json: bool,
+) -> Result<()> {
     let info = ModelInfo {
         file,
         dims: grid.dims(),

@@ -2,9 +2,11 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
-use strata::grid::{CornerPointGrid, ReadOptions, StrayCorners};
+use strata::Note;
+use strata::engine::Model;
+use strata::scene::ModelSource;
 
 pub mod info;
 pub mod lod;
@@ -33,16 +35,12 @@ impl ReadArgs {
     }
 }
 
-/// Saves `image` to `path`, and says so when it is `background` alone: no part of the
-/// model covered a pixel, and the user would otherwise find a blank picture.
-pub fn save_picture(
-    image: &strata::render::image::RgbaImage,
-    background: [f32; 4],
-    path: &Path,
-) -> Result<()> {
-    strata::render::save_png(image, path)?;
-    let clear = background.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
-    if image.pixels().all(|p| p.0 == clear) {
+/// Saves a frame's picture to `path`, and says so when it is the background alone:
+/// no part of the model covered a pixel, and the user would otherwise find a blank
+/// picture.
+pub fn save_picture(frame: &strata::Frame, path: &Path) -> Result<()> {
+    strata::render::save_png(&frame.image, path)?;
+    if frame.report.blank {
         eprintln!(
             "note: {}: the background alone, no part of the model covers a pixel; the view \
              frames the model's extent, which `strata info` on the model gives: a few stray \
@@ -53,81 +51,44 @@ pub fn save_picture(
     Ok(())
 }
 
-/// Opens `model` (the sample in `data/` when `None`) as `read` says, and adds the
-/// per-cell arrays of each of its property decks (e.g. the PORO GRDECL that goes with
-/// an EGRID).
-pub fn open_model(model: Option<&Path>, read: &ReadArgs) -> Result<(PathBuf, CornerPointGrid)> {
-    let path = model.map_or_else(crate::sample_model, Path::to_path_buf);
-    let options = ReadOptions {
-        grid_only: read.grid_only,
-        ..ReadOptions::default()
-    };
-    let mut grid = strata::grid::open_with(&path, &options)?;
-    add_properties(&mut grid, &path, &read.props)?;
-    Ok((path, grid))
-}
-
-/// Prints what reading `grid` (from `path`) skipped (missing INCLUDE files, unreadable
-/// results, local grids) and its stray corners ([`stray_warning`]) on standard error,
-/// for the commands whose output is a picture or a file; the stray corners, which a
-/// picture leaves out of its framing.
-pub fn warn_about(grid: &CornerPointGrid, path: &Path) -> Option<StrayCorners> {
-    let stray = grid.stray_corners();
-    for warning in grid
-        .warnings
-        .iter()
-        .cloned()
-        .chain(stray.as_ref().map(|s| stray_warning(s, path)))
-    {
-        eprintln!("strata: warning: {warning}");
-    }
-    stray
-}
-
-/// Names the corner of the model read from `path` farthest outside the rest of it,
-/// of those `stray` found ([`CornerPointGrid::stray_corners`]): one stray depth is
-/// enough to pull a face across every picture, and this says which cell to mend.
-pub fn stray_warning(stray: &StrayCorners, path: &Path) -> String {
-    let w = &stray.worst;
-    let [x, y, depth] = w.map;
-    let (lo, hi) = (stray.rest.min, stray.rest.max);
-    format!(
-        "{}: cell {},{},{} has a corner (number {}, on pillar {},{}) at x {x:.2}, y {y:.2}, \
-         depth {depth:.2}, far outside the rest of the model (x {:.2} .. {:.2}, y {:.2} .. \
-         {:.2}, depth {:.2} .. {:.2}): pictures frame the rest, and the faces that reach \
-         it run out of them; {} pillar(s) have corners that far out (over {} interquartile \
-         ranges past the quartiles)",
-        path.display(),
-        w.cell[0] + 1,
-        w.cell[1] + 1,
-        w.cell[2] + 1,
-        w.corner,
-        w.pillar[0] + 1,
-        w.pillar[1] + 1,
-        lo[0],
-        hi[0],
-        lo[1],
-        hi[1],
-        lo[2],
-        hi[2],
-        stray.pillars,
-        strata::grid::STRAY_SPREADS,
+/// A terminal progress bar per long step of the engine (hidden where standard error
+/// is not a terminal).
+pub fn progress_bars() -> Box<strata::progress::ProgressFn> {
+    use strata::progress::{Progress, Stage};
+    let style = indicatif::ProgressStyle::with_template(
+        "{elapsed_precise} [{bar:40}] {msg} {pos}/{len} (eta {eta})",
     )
+    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+    let bar: std::sync::Mutex<Option<(Stage, indicatif::ProgressBar)>> = Default::default();
+    Box::new(move |p: Progress| {
+        let Ok(mut held) = bar.lock() else {
+            return;
+        };
+        if held.as_ref().is_none_or(|(stage, _)| *stage != p.stage) {
+            let new = indicatif::ProgressBar::new(p.total as u64)
+                .with_style(style.clone())
+                .with_message(p.stage.label());
+            *held = Some((p.stage, new));
+        }
+        if let Some((_, bar)) = held.as_ref() {
+            bar.set_position(p.done as u64);
+            if p.done >= p.total {
+                bar.finish_and_clear();
+            }
+        }
+    })
 }
 
-/// Adds to `grid`, read from `path`, the per-cell arrays of each property deck in
-/// `props`.
-fn add_properties(grid: &mut CornerPointGrid, path: &Path, props: &[PathBuf]) -> Result<()> {
-    for deck in props {
-        strata::grid::grdecl::read_properties(grid, deck).with_context(|| {
-            format!(
-                "adding the properties of {} to {}",
-                deck.display(),
-                path.display()
-            )
-        })?;
-    }
-    Ok(())
+/// Opens `model` (the sample in `data/` when `None`) as `read` says, with the
+/// per-cell arrays of each of its property decks added (e.g. the PORO GRDECL that
+/// goes with an EGRID), and what reading it found to warn about.
+pub fn open_model(model: Option<&Path>, read: &ReadArgs) -> Result<(Model, Vec<Note>)> {
+    let source = ModelSource {
+        path: model.map_or_else(crate::sample_model, Path::to_path_buf),
+        props: read.props.clone(),
+        grid_only: read.grid_only,
+    };
+    Ok(Model::open(&source)?)
 }
 
 /// Refuses to write `output` over one of the files a command reads (`inputs`: the
@@ -160,37 +121,7 @@ fn same_file(a: &Path, b: &Path) -> bool {
     matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
 
-/// Refuses work that needs about `needed` bytes when the system has less available
-/// (Linux's MemAvailable; elsewhere nothing is known and nothing is refused): past the
-/// memory there is, the allocator aborts or the system's OOM killer ends the run long
-/// after it started. `what` and `doing` name the work in the message.
-pub fn check_memory(needed: f64, what: &str, doing: &str) -> Result<()> {
-    if let Some(available) = available_memory()
-        && needed > available
-    {
-        anyhow::bail!(
-            "{what} need about {:.1} GB {doing}, and {:.1} GB of memory is available",
-            needed / 1e9,
-            available / 1e9
-        );
-    }
-    Ok(())
-}
-
-/// Memory the system can still give this process without swapping, in bytes
-/// (Linux's MemAvailable; `None` where it is not known).
-pub fn available_memory() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let kb = info
-        .lines()
-        .find_map(|l| l.strip_prefix("MemAvailable:"))?
-        .trim()
-        .trim_end_matches("kB")
-        .trim()
-        .parse::<f64>()
-        .ok()?;
-    Some(1024.0 * kb)
-}
+pub use strata::memory::{available_memory, check_memory};
 
 #[cfg(test)]
 mod tests {

@@ -3,9 +3,9 @@
 
 use anyhow::{Result, anyhow};
 use clap::{Args, ValueEnum};
-use strata::render::wgpu::DeviceType;
-use strata::render::{
-    Attenuation, Colormap, Coverage, GridLines, HiddenLines, Isolines, Style, WireMode, parse_color,
+use strata::render::{Colormap, HiddenLines, WireMode};
+use strata::scene::{
+    Attenuate, CameraSpec, CoverageChoice, GridLineSpec, IsolineSpec, Scene, WireStyle,
 };
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -23,17 +23,22 @@ enum CoverageArg {
     Analytic,
 }
 
-impl CoverageArg {
-    /// The form to draw with on an adapter of `device`. `strata bench wire` measured
-    /// the analytic form at 0.9-1.2 x the shaded frame on llvmpipe and lavapipe and
-    /// the texture tap at 1.25-1.7 x: a CPU rasterizer pays for every filtered fetch,
-    /// a GPU's texture units fetch nearly for free, and the texture keeps the
-    /// attenuation table and arbitrary line profiles.
-    fn resolve(self, device: DeviceType) -> Coverage {
-        match self {
-            CoverageArg::Auto if device == DeviceType::Cpu => Coverage::Analytic,
-            CoverageArg::Auto | CoverageArg::Texture => Coverage::Texture,
-            CoverageArg::Analytic => Coverage::Analytic,
+impl From<CoverageArg> for CoverageChoice {
+    fn from(arg: CoverageArg) -> Self {
+        match arg {
+            CoverageArg::Auto => CoverageChoice::Auto,
+            CoverageArg::Texture => CoverageChoice::Texture,
+            CoverageArg::Analytic => CoverageChoice::Analytic,
+        }
+    }
+}
+
+impl From<AttenuateArg> for Attenuate {
+    fn from(arg: AttenuateArg) -> Self {
+        match arg {
+            AttenuateArg::None => Attenuate::None,
+            AttenuateArg::Intensity => Attenuate::Intensity,
+            AttenuateArg::Thickness => Attenuate::Thickness,
         }
     }
 }
@@ -94,41 +99,39 @@ pub struct StyleArgs {
 }
 
 impl StyleArgs {
-    /// The style these options ask for on an adapter of `device`, colouring
-    /// `scalar_range` (a solid colour when `None`), for meshes whose display frame
-    /// starts at map `display_origin`. No isolines: each command adds its own.
-    pub fn style(
-        &self,
-        device: DeviceType,
-        scalar_range: Option<(f32, f32)>,
-        display_origin: [f64; 2],
-    ) -> Result<Style> {
-        Ok(Style {
-            thickness: self.thickness,
-            wire_color: parse_color(&self.wire_color)
-                .ok_or_else(|| anyhow!("--wire-color {:?} is not a colour", self.wire_color))?,
-            attenuation: match self.attenuate {
-                AttenuateArg::None => Attenuation::None,
-                AttenuateArg::Intensity => Attenuation::Intensity,
-                AttenuateArg::Thickness => Attenuation::Thickness,
-            },
-            coverage: self.coverage.resolve(device),
-            isolation: self.isolation,
+    /// Sets the line style, colour map and grid lines of `scene` as these options say.
+    pub fn apply(&self, scene: &mut Scene) -> Result<()> {
+        scene.wire = WireStyle {
+            technique: self.wire,
             hidden: self.hidden,
-            colormap: Colormap::from_name(&self.colormap)
-                .ok_or_else(|| anyhow!("unknown colour map {:?}", self.colormap))?,
-            scalar_range,
-            background: if self.isolation {
-                [0.0, 0.0, 0.0, 1.0]
-            } else {
-                [1.0; 4]
-            },
-            grid_lines: self.grid_lines.map(|(spacing, x0, y0)| GridLines {
-                origin: [x0, y0],
-                ..GridLines::new(spacing, display_origin)
-            }),
-            ..Style::default()
-        })
+            thickness: self.thickness,
+            color: self.wire_color.clone(),
+            attenuate: self.attenuate.into(),
+            coverage: self.coverage.into(),
+            isolation: self.isolation,
+        };
+        scene.colour.colormap = Colormap::from_name(&self.colormap)
+            .ok_or_else(|| anyhow!("unknown colour map {:?}", self.colormap))?;
+        scene.grid_lines = self.grid_lines.map(|(spacing, x0, y0)| GridLineSpec {
+            spacing,
+            origin: [x0, y0],
+        });
+        Ok(())
+    }
+}
+
+impl FrameArgs {
+    /// Sets the camera and size of `scene` as these options say.
+    pub fn apply(&self, scene: &mut Scene) {
+        let (azimuth, elevation, distance) = self.view;
+        scene.camera = CameraSpec {
+            azimuth,
+            elevation,
+            distance,
+            z_scale: self.zscale,
+            centre: self.centre,
+        };
+        scene.size = [self.size.0, self.size.1];
     }
 }
 
@@ -161,14 +164,12 @@ pub(crate) struct IsoSpacing {
 }
 
 impl IsoSpacing {
-    /// The isolines of a field whose values span `range`.
-    pub(crate) fn isolines(&self, range: (f32, f32)) -> Isolines {
-        Isolines {
+    /// The isolines of `property` (a hierarchy's own when `None`) at this spacing.
+    pub(crate) fn spec(&self, property: Option<&str>) -> IsolineSpec {
+        IsolineSpec {
+            spacing: self.spacing,
             major_every: self.major_every,
-            ..Isolines::new(
-                self.spacing
-                    .unwrap_or_else(|| nice_spacing(range.1 - range.0, 10.0)),
-            )
+            ..IsolineSpec::of(property)
         }
     }
 }
@@ -214,32 +215,6 @@ pub(crate) fn parse_iso_spacing(s: &str) -> Result<IsoSpacing, String> {
     })
 }
 
-/// A round spacing (1, 2 or 5 times a power of ten) giving about `lines` lines over
-/// `range`; worked out in f64 so that it is the f32 nearest the round number (0.05,
-/// not 0.049999997).
-fn nice_spacing(range: f32, lines: f32) -> f32 {
-    let raw = (f64::from(range) / f64::from(lines)).max(f64::from(f32::MIN_POSITIVE));
-    let power = raw.log10().floor() as i32;
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * 10f64.powi(power))
-        .find(|s| *s >= raw)
-        .unwrap_or(10f64.powi(power + 1)) as f32
-}
-
-/// `wire` for the decimated surfaces that `what` draws (`render --lod`, `lod view`):
-/// any but quad, whose per-face coordinates need the model's cell faces.
-pub fn decimated_wire(wire: WireMode, what: &str) -> Result<WireMode> {
-    if wire == WireMode::Quad {
-        return Err(anyhow!(
-            "{what} draws decimated surfaces, which have no cell faces for --wire quad's \
-             per-face coordinates: --wire global draws the model's cell lines on them, \
-             --wire tex their own triangles"
-        ));
-    }
-    Ok(wire)
-}
-
 fn parse_wire(s: &str) -> Result<WireMode, String> {
     WireMode::from_name(s).ok_or_else(|| {
         format!(
@@ -270,9 +245,15 @@ pub struct LayerArgs {
 }
 
 impl LayerArgs {
-    /// The layers asked for, of a model of `nz` layers (see [`layer_range`]).
-    pub fn range(&self, nz: usize) -> Result<Option<std::ops::Range<usize>>> {
-        layer_range(self.layer, self.layers, nz)
+    /// Sets the drawn layers and sides of `scene`: 1-based and inclusive, all when
+    /// neither option is given.
+    pub fn apply(&self, scene: &mut Scene) {
+        scene.layers = match (self.layer, self.layers) {
+            (Some(k), _) => Some([k, k]),
+            (None, Some((a, b))) => Some([a, b]),
+            (None, None) => None,
+        };
+        scene.sides = self.sides;
     }
 }
 
@@ -293,24 +274,6 @@ fn parse_layers(s: &str) -> Result<(usize, usize), String> {
         return Err(format!("layer range {a}..{b} is empty"));
     }
     Ok((a, b))
-}
-
-/// `--layer K` or `--layers A..B` of a model of `nz` layers, as 0-based layers (end
-/// exclusive); `None` for all.
-fn layer_range(
-    layer: Option<usize>,
-    layers: Option<(usize, usize)>,
-    nz: usize,
-) -> Result<Option<std::ops::Range<usize>>> {
-    match (layer, layers) {
-        (Some(k), _) if (1..=nz).contains(&k) => Ok(Some(k - 1..k)),
-        (Some(k), _) => Err(anyhow!("layer {k} is not within the model's 1..{nz}")),
-        (None, Some((a, b))) if b <= nz => Ok(Some(a - 1..b)),
-        (None, Some((a, b))) => Err(anyhow!(
-            "layers {a}..{b} are not within the model's 1..{nz}"
-        )),
-        (None, None) => Ok(None),
-    }
 }
 
 pub(crate) fn parse_view(s: &str) -> Result<(f32, f32, f32), String> {
@@ -338,7 +301,7 @@ pub(crate) fn parse_zscale(s: &str) -> Result<f32, String> {
     }
 }
 
-/// `--centre I,J`: a 1-based column of cells, as 0-based (i, j).
+/// `--centre I,J`: a 1-based column of cells.
 fn parse_column(s: &str) -> Result<[u32; 2], String> {
     let v: Vec<u32> = s
         .split(',')
@@ -346,7 +309,7 @@ fn parse_column(s: &str) -> Result<[u32; 2], String> {
         .collect::<Option<_>>()
         .ok_or_else(|| format!("expected I,J with 1-based cell indices, got {s:?}"))?;
     match v.as_slice() {
-        [i, j] => Ok([i - 1, j - 1]),
+        [i, j] => Ok([*i, *j]),
         _ => Err(format!("expected I,J with 1-based cell indices, got {s:?}")),
     }
 }
@@ -370,27 +333,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn auto_coverage_is_analytic_on_cpu_rasterizers_only() {
-        use DeviceType::{Cpu, DiscreteGpu, IntegratedGpu};
-        assert_eq!(CoverageArg::Auto.resolve(Cpu), Coverage::Analytic);
-        assert_eq!(CoverageArg::Auto.resolve(DiscreteGpu), Coverage::Texture);
-        assert_eq!(CoverageArg::Auto.resolve(IntegratedGpu), Coverage::Texture);
-        assert_eq!(CoverageArg::Texture.resolve(Cpu), Coverage::Texture);
-        assert_eq!(
-            CoverageArg::Analytic.resolve(DiscreteGpu),
-            Coverage::Analytic
-        );
-    }
-
-    #[test]
     fn iso_options_give_a_spacing_or_about_ten_round_lines() {
         let (name, iso) = parse_iso("PORO").expect("a property alone");
         assert_eq!(name, "PORO");
-        // Range 0.0615..0.2968: the first round spacing not below a tenth of it.
-        assert_eq!(iso.isolines((0.0615, 0.2968)).spacing, 0.05);
+        assert_eq!(iso.spec(Some("PORO")), IsolineSpec::of(Some("PORO")));
         let (_, iso) = parse_iso("PORO:0.01:4").expect("spacing and major");
-        let lines = iso.isolines((0.0, 1.0));
-        assert_eq!((lines.spacing, lines.major_every), (0.01, 4));
+        let spec = iso.spec(Some("PORO"));
+        assert_eq!((spec.spacing, spec.major_every), (Some(0.01), 4));
         assert_eq!(parse_iso_spacing("").map(|i| i.major_every), Ok(5));
         for bad in [":0.1", "PORO:-1", "PORO:0.1:x", "PORO:0.1:2:3"] {
             assert!(parse_iso(bad).is_err(), "{bad}");
@@ -415,21 +364,5 @@ mod tests {
         for bad in ["0", "-1", "inf", "nan", "x"] {
             assert!(parse_zscale(bad).is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn layer_options_become_zero_based_ranges_within_the_model() {
-        assert_eq!(layer_range(Some(3), None, 5).ok(), Some(Some(2..3)));
-        assert_eq!(layer_range(None, Some((2, 5)), 5).ok(), Some(Some(1..5)));
-        assert_eq!(layer_range(None, None, 5).ok(), Some(None));
-        let err = |r: Result<_>| r.err().map(|e| e.to_string()).unwrap_or_default();
-        assert_eq!(
-            err(layer_range(Some(6), None, 5)),
-            "layer 6 is not within the model's 1..5"
-        );
-        assert_eq!(
-            err(layer_range(None, Some((4, 6)), 5)),
-            "layers 4..6 are not within the model's 1..5"
-        );
     }
 }

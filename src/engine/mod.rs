@@ -1,0 +1,309 @@
+//! The retained scene renderer: a [`Scene`] in, pictures out, rebuilding only what a
+//! change of scene invalidates.
+//!
+//! # How it works
+//! A [`SceneRenderer`] holds three things, each made from the one before: the
+//! [`Model`] read from the scene's files, the *content* built from it (the surfaces
+//! and their GPU buffers, a decimated scene, an open hierarchy), and the GPU
+//! [`Renderer`]. [`SceneRenderer::set_scene`] compares the new scene with the old
+//! field by field: new files read the model again; new layers, sides, property,
+//! level of detail, technique or isoline field build the content again; anything
+//! else (camera, size, line style, colours, isoline spacing, grid lines) is drawn by
+//! the next frame from what is held. [`Counters`] says how often each happened.
+//!
+//! The content takes one of three forms:
+//! - **whole**: one mesh of every drawn surface, full or decimated (`render`,
+//!   `render --lod`); a frame frames it and draws it.
+//! - **parts**: a scene of more active cells than [`Scene::part_cells`]; a frame
+//!   frames it in one pass over its corners and builds, draws and drops a part at a
+//!   time, so its memory is one part's.
+//! - **hierarchy**: a `.lod` file, memory mapped; a frame chooses its nodes for the
+//!   camera and draws them over the model's cells.
+//!
+//! # Why not rebuild per frame
+//! Reading a model and extracting its surfaces costs many times a frame's draw, and
+//! a window or a script that turns the camera would pay it every time. Holding the
+//! GPU buffers makes the next frame cost the draw alone.
+
+mod decimated;
+mod hierarchy;
+mod look;
+mod model;
+mod parts;
+mod whole;
+
+use std::time::Instant;
+
+pub use model::{Model, stray_warning};
+use strata_render::Renderer;
+use strata_render::image::RgbaImage;
+
+use crate::progress::ProgressFn;
+use crate::scene::{Lod, Scene};
+use crate::{Error, Result};
+
+/// Something the engine has to say about what it read, built or drew.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Note {
+    /// A problem the picture works around (a skipped INCLUDE, a stray corner).
+    Warning(String),
+    /// Something the user should know about the picture (colours interpolated, a
+    /// budget below what keeps the outlines).
+    Note(String),
+    /// What was done and how (the decimation, the nodes chosen).
+    Info(String),
+}
+
+/// How often the engine did each kind of work, from its start: what a test or a
+/// benchmark reads to see that a new camera rebuilt nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Models read.
+    pub models_read: usize,
+    /// Contents built: surfaces extracted (and decimated), or a hierarchy opened.
+    pub contents_built: usize,
+    /// Frames drawn.
+    pub frames: usize,
+}
+
+/// A frame and what went into it.
+pub struct Frame {
+    /// The picture, RGBA8, rows top to bottom.
+    pub image: RgbaImage,
+    /// What was drawn.
+    pub report: FrameReport,
+}
+
+/// What a frame drew, and how long it took.
+#[derive(Clone, Debug, Default)]
+pub struct FrameReport {
+    /// Triangles drawn.
+    pub triangles: usize,
+    /// What was drawn, in words (triangles, parts, nodes).
+    pub drawn: String,
+    /// The property colouring the cells and the range the colour map spans.
+    pub colouring: Option<(String, (f32, f32))>,
+    /// The wireframe technique's name.
+    pub technique: &'static str,
+    /// The line coverage used (texture or analytic).
+    pub coverage: strata_render::Coverage,
+    /// The adapter that drew the frame, in words.
+    pub adapter: String,
+    /// No part of the model covers a pixel: the picture is the background alone.
+    pub blank: bool,
+    /// Seconds reading and building before the frame (0 when all was held).
+    pub build_seconds: f64,
+    /// Seconds drawing the frame.
+    pub draw_seconds: f64,
+    /// What reading, building and drawing had to say, in order.
+    pub notes: Vec<Note>,
+}
+
+/// What a frame draws from: see the module docs.
+enum Content {
+    Whole(whole::Whole),
+    Parts(parts::Parts),
+    Hierarchy(Box<hierarchy::Hierarchy>),
+}
+
+/// Draws [`Scene`]s, holding what one frame built for the next.
+pub struct SceneRenderer {
+    renderer: Option<Renderer>,
+    scene: Scene,
+    model: Option<Model>,
+    content: Option<Content>,
+    /// Notes made while reading or building, given with the next frame.
+    pending: Vec<Note>,
+    progress: Option<Box<ProgressFn>>,
+    counters: Counters,
+}
+
+impl SceneRenderer {
+    /// An engine for `scene` (checked), on the best adapter found when it first
+    /// draws ([`strata_render::Gpu::new`]). Nothing is read until then.
+    pub fn new(scene: Scene) -> Result<Self> {
+        scene.check()?;
+        Ok(SceneRenderer {
+            renderer: None,
+            scene,
+            model: None,
+            content: None,
+            pending: Vec::new(),
+            progress: None,
+            counters: Counters::default(),
+        })
+    }
+
+    /// An engine for `scene` drawing with `renderer` (an adapter of one's choice).
+    pub fn with_renderer(scene: Scene, renderer: Renderer) -> Result<Self> {
+        let mut engine = Self::new(scene)?;
+        engine.renderer = Some(renderer);
+        Ok(engine)
+    }
+
+    /// Hears of the progress of long steps (framing and drawing a scene in parts).
+    pub fn on_progress(&mut self, progress: Box<ProgressFn>) {
+        self.progress = Some(progress);
+    }
+
+    /// The scene drawn next.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// How often each kind of work was done.
+    pub fn counters(&self) -> Counters {
+        self.counters
+    }
+
+    /// The model read, once a frame has read it.
+    pub fn model(&self) -> Option<&Model> {
+        self.model.as_ref()
+    }
+
+    /// The GPU renderer, opened on first use.
+    pub fn renderer(&mut self) -> Result<&mut Renderer> {
+        match &mut self.renderer {
+            Some(renderer) => Ok(renderer),
+            slot => Ok(slot.insert(Renderer::headless()?)),
+        }
+    }
+
+    /// Draws `scene` from now on; what its changes invalidate is dropped and built
+    /// again by the next frame. A scene that fails its checks leaves the last one.
+    pub fn set_scene(&mut self, scene: Scene) -> Result<()> {
+        scene.check()?;
+        if scene.model != self.scene.model {
+            self.model = None;
+            self.content = None;
+        } else if content_key(&scene) != content_key(&self.scene) {
+            self.content = None;
+        }
+        self.scene = scene;
+        Ok(())
+    }
+
+    /// Reads the model and builds the content where they are not held, then draws
+    /// a frame of the scene.
+    pub fn render(&mut self) -> Result<Frame> {
+        let start = Instant::now();
+        self.ensure_content()?;
+        let built = start.elapsed().as_secs_f64();
+        let drawing = Instant::now();
+        let renderer = match &mut self.renderer {
+            Some(renderer) => renderer,
+            slot => slot.insert(Renderer::headless()?),
+        };
+        let scene = &self.scene;
+        let progress = self.progress.as_deref();
+        let (image, mut report) = match self.content.as_mut() {
+            Some(Content::Whole(whole)) => whole.draw(renderer, self.model.as_ref(), scene)?,
+            Some(Content::Parts(parts)) => {
+                let model = self.model.as_ref().ok_or_else(no_model)?;
+                parts.draw(renderer, model, scene, progress)?
+            }
+            Some(Content::Hierarchy(hierarchy)) => hierarchy.draw(renderer, scene)?,
+            None => return Err(Error::scene("nothing built to draw")),
+        };
+        report.build_seconds = built;
+        report.draw_seconds = drawing.elapsed().as_secs_f64();
+        report.technique = scene.wire.technique.name();
+        report.adapter = renderer.gpu.describe();
+        report.blank = background_only(&image, scene);
+        let mut notes = std::mem::take(&mut self.pending);
+        notes.append(&mut report.notes);
+        report.notes = notes;
+        self.counters.frames += 1;
+        Ok(Frame { image, report })
+    }
+
+    /// A hierarchy scene's choice of nodes for its camera, in words, without drawing
+    /// (no GPU needed): what `strata lod view` prints with no output file.
+    pub fn describe_selection(&mut self) -> Result<Vec<Note>> {
+        self.ensure_content()?;
+        match &self.content {
+            Some(Content::Hierarchy(hierarchy)) => {
+                let mut notes = std::mem::take(&mut self.pending);
+                notes.extend(hierarchy.plan(&self.scene)?.notes);
+                Ok(notes)
+            }
+            _ => Err(Error::scene("only a hierarchy's selection is described")),
+        }
+    }
+
+    /// Reads the model and builds the content where they are not held.
+    fn ensure_content(&mut self) -> Result<()> {
+        if self.content.is_some() {
+            return Ok(());
+        }
+        if let Lod::Hierarchy { file, .. } = &self.scene.lod {
+            let hierarchy = hierarchy::Hierarchy::open(file, &self.scene)?;
+            self.content = Some(Content::Hierarchy(Box::new(hierarchy)));
+            self.counters.contents_built += 1;
+            return Ok(());
+        }
+        if self.model.is_none() {
+            let source = self.scene.model.as_ref().ok_or_else(no_model)?;
+            let (model, notes) = Model::open(source)?;
+            self.pending.extend(notes);
+            self.model = Some(model);
+            self.counters.models_read += 1;
+        }
+        let model = self.model.as_mut().ok_or_else(no_model)?;
+        model.use_step(self.scene.colour.step)?;
+        let scene = &self.scene;
+        let content = match parts::Parts::plan(model, scene)? {
+            Some(parts) => Content::Parts(parts),
+            None => {
+                let renderer = match &mut self.renderer {
+                    Some(renderer) => renderer,
+                    slot => slot.insert(Renderer::headless()?),
+                };
+                let (whole, notes) = whole::Whole::build(renderer, model, scene)?;
+                self.pending.extend(notes);
+                Content::Whole(whole)
+            }
+        };
+        self.content = Some(content);
+        self.counters.contents_built += 1;
+        Ok(())
+    }
+}
+
+/// Whether `image` is `scene`'s background alone (black with lines in isolation,
+/// white otherwise).
+fn background_only(image: &RgbaImage, scene: &Scene) -> bool {
+    let clear = if scene.wire.isolation {
+        [0, 0, 0, 255]
+    } else {
+        [255; 4]
+    };
+    image.pixels().all(|p| p.0 == clear)
+}
+
+fn no_model() -> Error {
+    Error::scene("scene: no model")
+}
+
+/// What the content is built from: a scene that differs from another here needs its
+/// surfaces (or hierarchy) built again; one that differs elsewhere only a new frame.
+fn content_key(scene: &Scene) -> impl PartialEq + use<> {
+    let colour = &scene.colour;
+    (
+        scene.lod.clone(),
+        scene.layers,
+        scene.sides,
+        (
+            colour.property.clone(),
+            colour.solid,
+            colour.step,
+            colour.smooth,
+        ),
+        scene.wire.technique,
+        scene
+            .isolines
+            .as_ref()
+            .map(|iso| (iso.property.clone(), iso.adjust)),
+        scene.part_cells,
+    )
+}
