@@ -41,3 +41,9 @@ pub mod surfaces;
 pub use engine::{Counters, Frame, FrameReport, Note, SceneRenderer};
 pub use error::{Context, Error, Result};
 pub use scene::Scene;
+
+/// The sample model shipped in the repository's `data/` (a faulted synthetic
+/// reservoir): what the command line draws when given no model.
+pub fn sample_model() -> std::path::PathBuf {
+    std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl")
+}

@@ -88,6 +88,16 @@ enum BenchCommand {
         #[arg(long)]
         images: Option<PathBuf>,
     },
+    /// Frame times of the retained scene renderer: the first frame (read, build,
+    /// draw), and next frames of new cameras beside the renderer's own draw.
+    Scene {
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+        /// Folder of real models (default: ../shared/data beside the repository).
+        #[arg(long)]
+        data: Option<PathBuf>,
+    },
     /// Isoline quality against an analytic reference (16x16 supersampled) and frame
     /// times: texture isolines (adjust on/off) beside marching triangles + lines.
     Isolines {
@@ -117,6 +127,7 @@ fn main() -> ExitCode {
             images,
         }) => bench_lod(json, data, quick, images),
         Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
+        Command::Bench(BenchCommand::Scene { json, data }) => bench_scene(json, data),
         Command::Bench(BenchCommand::Wire {
             json,
             quick,
@@ -237,6 +248,18 @@ fn bench_isolines(json: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
+fn bench_scene(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {
+    let data =
+        data.unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"));
+    let report = strata::bench::scene::run(&data)?;
+    if json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        strata::bench::scene::print_table(&report);
+    }
+    Ok(())
+}
+
 fn bench_quality(json: bool, images: Option<PathBuf>) -> anyhow::Result<()> {
     use strata::bench::quality;
     let report = quality::run(images.as_deref())?;
@@ -246,9 +269,4 @@ fn bench_quality(json: bool, images: Option<PathBuf>) -> anyhow::Result<()> {
         quality::print_table(&report);
     }
     Ok(())
-}
-
-/// The sample model shipped in `data/`, used when a command is given no model.
-pub fn sample_model() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/sample.grdecl")
 }

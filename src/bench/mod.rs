@@ -6,4 +6,5 @@ pub mod isolines;
 pub mod lod;
 pub mod meshes;
 pub mod quality;
+pub mod scene;
 pub mod wire;

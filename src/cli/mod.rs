@@ -84,7 +84,7 @@ pub fn progress_bars() -> Box<strata::progress::ProgressFn> {
 /// goes with an EGRID), and what reading it found to warn about.
 pub fn open_model(model: Option<&Path>, read: &ReadArgs) -> Result<(Model, Vec<Note>)> {
     let source = ModelSource {
-        path: model.map_or_else(crate::sample_model, Path::to_path_buf),
+        path: model.map_or_else(strata::sample_model, Path::to_path_buf),
         props: read.props.clone(),
         grid_only: read.grid_only,
     };

@@ -150,7 +150,7 @@ pub fn parse_percent(s: &str) -> Result<f64, String> {
 impl RenderArgs {
     /// The scene these options describe.
     fn scene(&self) -> Result<Scene> {
-        let path = self.model.clone().unwrap_or_else(crate::sample_model);
+        let path = self.model.clone().unwrap_or_else(strata::sample_model);
         let mut scene = Scene {
             model: Some(ModelSource {
                 path,
