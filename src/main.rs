@@ -109,6 +109,7 @@ enum BenchCommand {
 
 fn main() -> ExitCode {
     quiet_on_closed_pipe();
+    quiet_device_probe();
     let cli = Cli::parse();
     if matches!(cli.command, Command::Render(_) | Command::Bench(_)) {
         keep_freed_memory();
@@ -154,6 +155,22 @@ fn quiet_on_closed_pipe() {
     // a valid disposition for SIGPIPE.
     unsafe {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
+/// Keeps Mesa's Vulkan device-select layer from probing for a Wayland display where
+/// there can be none: with `XDG_RUNTIME_DIR` unset (a headless machine, a CI job)
+/// libwayland prints `error: XDG_RUNTIME_DIR is invalid or not set in the
+/// environment.` twice before a correct picture, and a newcomer reads "error" as
+/// failure. The layer only reorders adapters for a display's GPU; strata chooses its
+/// adapter itself (`Gpu::new`), so nothing is lost. A user's own setting stands.
+fn quiet_device_probe() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
+        // SAFETY: called first thing in `main`, before any other thread exists, so no
+        // other thread reads the environment while it changes.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
 }
 

@@ -397,3 +397,27 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
     assert!(said.contains(note) && covered() == 0, "{said}");
     assert!(!said.contains("hidden behind"), "{said}");
 }
+
+/// A first run as a newcomer makes it, on a machine without a display or
+/// `XDG_RUNTIME_DIR`: a picture, and no line on standard error that says "error".
+#[test]
+fn a_first_run_without_a_display_prints_no_error() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let png = dir.path().join("strata.png");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["render", "--sides", "--size", "300x200", "-o"])
+        .arg(&png)
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .output()
+        .expect("the strata binary runs");
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{said}");
+    assert!(png.exists());
+    assert!(
+        !said
+            .lines()
+            .any(|l| l.to_ascii_lowercase().contains("error")),
+        "{said}"
+    );
+}
