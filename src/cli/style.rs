@@ -25,10 +25,10 @@ enum CoverageArg {
 
 impl CoverageArg {
     /// The form to draw with on an adapter of `device`. `strata bench wire` measured
-    /// the analytic form at 0.9-1.2 x the shaded frame on llvmpipe and lavapipe and
-    /// the texture tap at 1.25-1.7 x: a CPU rasterizer pays for every filtered fetch,
-    /// a GPU's texture units fetch nearly for free, and the texture keeps the
-    /// attenuation table and arbitrary line profiles.
+    /// the analytic form cheaper than the texture tap on llvmpipe and lavapipe (see
+    /// docs/performance.md, "Wireframe techniques"): a CPU rasterizer pays for every
+    /// filtered fetch, a GPU's texture units fetch nearly for free, and the texture
+    /// keeps the attenuation table and arbitrary line profiles.
     fn resolve(self, device: DeviceType) -> Coverage {
         match self {
             CoverageArg::Auto if device == DeviceType::Cpu => Coverage::Analytic,
