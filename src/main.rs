@@ -177,19 +177,19 @@ fn quiet_device_probe() {
 /// Keeps freed memory in the process for the next allocation of about its size, for
 /// the commands that make such allocations one after another: `render`, which draws a
 /// large model in parts of about the same size, and the benchmarks, which repeat each
-/// run (`bench lod` on a generated 2000 x 2000 layer: 0.53 s of system time a run
-/// without, none with, for ours and meshoptimizer's simplifiers alike).
+/// run (without it, every `bench lod` run paid system time to fault in fresh pages,
+/// for ours and meshoptimizer's simplifiers alike).
 ///
 /// glibc serves blocks above its mmap threshold (32 MiB at most when it adapts it)
 /// with fresh maps and unmaps them when freed, so every part of a model drawn in
 /// parts faults in newly zeroed pages. With large blocks taken from the heap and the
-/// heap never trimmed, the whole view of a 1000 x 1000 x 100 model went from 42.3 to
-/// 35.7 s (system time 12.8 -> 6.6 s) at 4.27 GB resident instead of 4.06.
+/// heap never trimmed, a large model's whole view was measured faster, with less
+/// system time, at a slightly higher resident peak.
 ///
 /// Not for `lod build`: its threads allocate from arenas of their own, which cannot
-/// reuse what another thread's arena kept, so the kept memory only adds to the peak.
-/// A 6000 x 6000 layer built at 14.50 GB with it and 12.75 GB without (144 and 147 s),
-/// a 1000 x 1000 x 10 model at 0.78 and 0.76 GB (18.0 s both).
+/// reuse what another thread's arena kept, so the kept memory only adds to the peak
+/// (measured higher, at the same time). The figures are in docs/performance.md
+/// ("Drawing in parts, and memory"; "How `bench lod` measures speed").
 fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: called from `main` before any other thread exists; mallopt only sets the

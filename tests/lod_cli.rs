@@ -376,10 +376,9 @@ fn render_lod_trims_the_decimated_surfaces_to_the_original_cells() {
     // budget cannot keep: decimation cuts them, inward and outward. Drawn with the
     // global wireframe, what grew outward names by its global coordinates cells that
     // its piece of the original does not have, and is not drawn. Seen from above, the
-    // decimated model then covers few pixels outside the original's footprint: about
-    // 2 % of it here at 10 % and at 2 % of the triangles, where drawn untrimmed it
-    // covered 5.9 % and 19 % (the rest is the coarse surfaces' height error, which
-    // moves them on screen).
+    // decimated model then covers few pixels outside the original's footprint, far
+    // fewer than drawn untrimmed (what remains is the coarse surfaces' height error,
+    // which moves them on screen; measured in docs/performance.md).
     let model = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/data/emerald/eme_small_w_hole_grid_params.grdecl");
     if !model.is_file() {
@@ -809,8 +808,8 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
         // Without isolines the two agree to the pixel on lavapipe and on an NVIDIA
         // H200. The view's isolines come from the tiles' leaves and render's from its
         // mesh: where they crowd on fault walls seen edge-on, their anti-aliased edges
-        // differ (180 pixels on lavapipe with analytic coverage, 313 on the H200 with
-        // the texture), far below the thousands that missing sides or isolines change.
+        // differ (a few hundred pixels on lavapipe and on a GPU; docs/performance.md),
+        // far below the thousands that missing sides or isolines change.
         let allowed = if iso.is_empty() {
             model / 200
         } else {

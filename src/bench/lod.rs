@@ -121,23 +121,23 @@ pub const QUICK: Config = Config {
 
 /// The speed goal is checked on inputs of at least this many triangles: below, a run
 /// is dominated by what every call costs whatever its size (simpleb8's 58 triangles
-/// run at 0.3-0.8 M/s in every simplifier).
+/// run far below the goal in every simplifier; docs/performance.md).
 const GOAL_RATE_MIN_TRIANGLES: usize = 10_000;
 
 /// A speed row runs its input until it has taken at least this much CPU time (the
 /// process CPU clock counts in 10 ms ticks), at most `MAX_REPEATS` times (a bound
-/// for a clock that does not advance; simpleb8's 58 triangles need 20,000-45,000).
+/// for a clock that does not advance; simpleb8's 58 triangles need tens of thousands).
 /// Long enough that the generated 0.5-million-triangle layer's row is the mean of
-/// about three runs: one run of it took 0.50-0.56 CPU s in one process and 0.72-0.97
-/// M triangles per CPU second over several bench runs on this 2-core machine.
+/// about three runs: single runs of it varied widely between bench runs on a shared
+/// 2-core machine (docs/performance.md, "How `bench lod` measures speed").
 const MIN_CPU_SECONDS: f64 = 1.5;
 const MAX_REPEATS: usize = 100_000;
 
 /// Samples of the rows the speed goal and the ratios rest on (ours and
 /// meshopt_simplify, one thread): one run of the generated 1000 x 1000 layer takes
-/// about 1.6-1.8 CPU s, so a single sample is a single run, and on this shared 2-core
-/// machine one run can be 10-20 % slower than the next with the same code (three
-/// samples of ours on it in one bench: 1.02, 1.14 and 1.17 M triangles per CPU s).
+/// longer than [`MIN_CPU_SECONDS`], so a single sample is a single run, and on a
+/// shared machine one run can be well slower than the next with the same code
+/// (docs/performance.md, "How `bench lod` measures speed").
 const GOAL_SAMPLES: usize = 3;
 
 /// The budget the goals are stated at.
@@ -922,9 +922,9 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
     for (label, layers) in &inputs {
         let triangles: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
         // One untimed run first. A fresh process's first run on a large input pays for
-        // the virtual machine backing its new memory, which is not decimation: ours on
-        // the generated 2000x2000 layer took 3.6 s of system time cold and 0.9 s in
-        // the next runs (0.77 against 1.05 M triangles per CPU second).
+        // the virtual machine backing its new memory, which is not decimation: it was
+        // measured with several times the system time of the next runs, and a lower
+        // rate (docs/performance.md).
         for layer in layers {
             Method::Strata.run(layer, budget_of(layer, GOAL_BUDGET / 100.0))?;
         }

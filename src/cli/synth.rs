@@ -30,8 +30,8 @@ pub struct SynthArgs {
 }
 
 /// Bytes `synth` holds per cell at its peak: ZCORN, ACTNUM, PORO and PERMX, and what
-/// the writer buffers. Measured: 4.07 GB for 100 M cells to EGRID, 469 MB for 10 M to
-/// GRDECL.
+/// the writer buffers. Measured on EGRID and GRDECL output; the figures are in
+/// docs/performance.md ("Reading and writing models").
 const PEAK_BYTES_PER_CELL: f64 = 48.0;
 
 pub fn run(args: &SynthArgs) -> Result<()> {

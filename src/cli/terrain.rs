@@ -86,8 +86,9 @@ fn parse_contours(s: &str) -> Result<(f32, u32), String> {
     Ok((spacing, major))
 }
 
-/// Bytes a pick costs from the triangulation to the frame, at the peak. Measured: 744
-/// MB for 1 M generated picks, 1 741 MB for 4 M.
+/// Bytes a pick costs from the triangulation to the frame, at the peak. Measured on
+/// generated picks; the figures are in docs/performance.md ("Drawing in parts, and
+/// memory").
 const TIN_BYTES_PER_PICK: f64 = 400.0;
 
 pub fn run(args: &TerrainArgs) -> Result<()> {

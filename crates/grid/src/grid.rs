@@ -226,7 +226,8 @@ impl CornerPointGrid {
                 bad / 6 + 1
             )));
         }
-        // Chunked: a per-element parallel search costs 20x more when the cores are busy.
+        // Chunked: a per-element parallel search was measured many times slower when
+        // the cores are busy (docs/performance.md, "Reading and writing models").
         const CHUNK: usize = 1 << 16;
         if let Some(chunk) = zcorn
             .par_chunks(CHUNK)

@@ -4,8 +4,9 @@
 //!
 //! Built so that large models stay cheap: node depths of every horizon are computed
 //! once (`(nz + 1) (ny + 1) (nx + 1)` values), fault throws once per map corner
-//! (`4 nx ny` values), and ZCORN is their sum, filled in parallel. A 1000 x 1000 x 100
-//! model needs about 4.5 GB (ZCORN alone is 3.2 GB of `f32`).
+//! (`4 nx ny` values), and ZCORN is their sum, filled in parallel, so that ZCORN
+//! itself (`8 nx ny nz` values of `f32`) is most of the memory a large model needs
+//! (measured in docs/performance.md).
 
 use ndarray::{Array3, Axis};
 use rayon::prelude::*;

@@ -21,8 +21,9 @@ use crate::pages::Pages;
 
 /// Bytes of text per parallel piece: large enough that rayon's overhead vanishes
 /// (tens of thousands of values), small enough that a wave gives 16 threads two
-/// each. Pieces of 256 KiB raised the peak of reading a 450 MB deck by 36 MB: glibc
-/// keeps their freed values in its heaps, where larger ones are unmapped.
+/// each. Smaller pieces (256 KiB) were measured to raise the peak of reading a large
+/// deck (docs/performance.md): glibc keeps their freed values in its heaps, where
+/// larger ones are unmapped.
 const CHUNK: usize = 512 << 10;
 
 /// Most pieces parsed at once: at most 16 MiB of text and what it parses to, however
