@@ -7,20 +7,19 @@
 //! Every front end (the `strata` command line, and the viewer and Python package to
 //! come) only turns its input into a `Scene` and shows the frames.
 //!
-//! ```no_run
+//! ```
 //! use strata::{Scene, SceneRenderer};
+//! use strata::scene::IsolineSpec;
 //!
-//! # fn main() -> strata::Result<()> {
-//! let mut scene = Scene::of_model("data/sample.grdecl");
-//! scene.sides = true;
+//! let mut scene = Scene::of_model(strata::sample_model());
+//! scene.layers = Some([1, 3]);
+//! scene.isolines = Some(IsolineSpec::of(Some("PORO")));
 //! let mut engine = SceneRenderer::new(scene.clone())?;
-//! engine.render()?.image.save("strata.png").ok();
-//! scene.camera.azimuth = 120.0; // a new camera: nothing is read or built again
-//! engine.set_scene(scene)?;
 //! let frame = engine.render()?;
-//! println!("{}", frame.report.drawn);
-//! # Ok(())
-//! # }
+//! assert_eq!(frame.image.dimensions(), (1200, 900));
+//! // Saved as JSON, the scene reads back as it was.
+//! assert_eq!(Scene::from_json(&scene.to_json())?, scene);
+//! # Ok::<(), strata::Error>(())
 //! ```
 //!
 //! The crates underneath are re-exported: [`grid`] (the model, readers, layer
@@ -41,6 +40,11 @@ pub mod surfaces;
 pub use engine::{Counters, Frame, FrameReport, Note, SceneRenderer};
 pub use error::{Context, Error, Result};
 pub use scene::Scene;
+
+/// The README's Rust examples, run as doctests so that they stay true.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
 
 /// The sample model shipped in the repository's `data/` (a faulted synthetic
 /// reservoir): what the command line draws when given no model.
