@@ -5,8 +5,9 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
+use strata_lod::measure::OutlineBound;
 use strata_lod::measure::deviation;
-use strata_lod::{CellCover, Maker, Options, Stitched, decimate_chosen, share_surfaces};
+use strata_lod::{CellCover, Chosen, Maker, Options, Stitched, decimate_chosen, share_surfaces};
 use strata_render::{CellDraw, Renderer, Stacking, TiledCells, stack_pushes};
 
 use super::Note;
@@ -163,7 +164,24 @@ pub fn decimate_scene(
             String::new()
         },
     )));
-    if stitched.inserted + stitched.skipped > 0 {
+    notes.extend(stitch_note(&stitched));
+    notes.extend(outline_notes(&chosen));
+    if out.is_empty() {
+        return Err(Error::scene("decimation left no triangle"));
+    }
+    if !(against_cells || cover) {
+        return Ok((out, None));
+    }
+    let cells = scene_cells(surfaces, stacked, chosen, z_scale, against_cells, notes)?;
+    Ok((out, cells))
+}
+
+/// What stitching did, in words; `None` where it did nothing.
+fn stitch_note(stitched: &Stitched) -> Option<Note> {
+    if stitched.inserted + stitched.skipped == 0 {
+        return None;
+    }
+    {
         // Each count that is not zero, with what it counts.
         let part = |count: usize, what: &str| {
             if count > 0 {
@@ -172,7 +190,7 @@ pub fn decimate_scene(
                 String::new()
             }
         };
-        notes.push(Note::Info(format!(
+        Some(Note::Info(format!(
             "stitched the outlines the surfaces share: {} nodes one of them kept put back \
              into the others (a triangle each){}{}{}{}",
             stitched.inserted,
@@ -195,8 +213,14 @@ pub fn decimate_scene(
                 "left out or short of their place (where a triangle would fold, or the outline \
                  left the input's)"
             ),
-        )));
+        )))
     }
+}
+
+/// The surfaces whose share was below what keeps their outlines, and those fitted
+/// to the grid lines, in words.
+fn outline_notes(chosen: &[(Chosen, Option<OutlineBound>)]) -> Vec<Note> {
+    let mut notes = Vec::new();
     let below: Vec<_> = chosen.iter().filter_map(|(_, b)| *b).collect();
     if !below.is_empty() {
         notes.push(Note::Note(format!(
@@ -220,19 +244,28 @@ pub fn decimate_scene(
             fitted.iter().map(|f| f.1).fold(0.0, f64::max),
         )));
     }
-    if out.is_empty() {
-        return Err(Error::scene("decimation left no triangle"));
-    }
+    notes
+}
+
+/// The input's cells of the decimated `chosen` surfaces of `surfaces` (the first
+/// `stacked` the layers'), appended as their meshes are ([`SceneCells`]): their own
+/// cover where the decimation made one, else (with `against_cells`) one made here;
+/// `None` where a surface has none.
+fn scene_cells(
+    surfaces: &[SurfaceMesh],
+    stacked: usize,
+    chosen: Vec<(Chosen, Option<OutlineBound>)>,
+    z_scale: f32,
+    against_cells: bool,
+    notes: &mut Vec<Note>,
+) -> Result<Option<SceneCells>> {
     let coloured = against_cells && !surfaces.iter().all(|s| s.scalars.is_empty());
     // Each surface's cells, as its cover came back or made here, appended as the
     // meshes are, each result's vertices named by their piece among them, and the
     // cells' values surface by surface, in the order of the appended cover.
     let mut cells = CellCover::default();
-    let mut pieces = Vec::with_capacity(out.vertex_count());
+    let mut pieces = Vec::new();
     let mut values = coloured.then(Vec::new);
-    if !(against_cells || cover) {
-        return Ok((out, None));
-    }
     // How far each stacked surface strays vertically from the original, which is how
     // far it may rise through its neighbour: their pushes apart in the depth test.
     let vertical: Vec<f32> = surfaces
@@ -256,10 +289,10 @@ pub fn decimate_scene(
                         "drawn without the original's cells (colours interpolated \
                          between nodes, nothing trimmed to the cells): {e}"
                     )));
-                    return Ok((out, None));
+                    return Ok(None);
                 }
             },
-            None => return Ok((out, None)),
+            None => return Ok(None),
         };
         let first = cells.pieces.len() as u32;
         pieces.extend(
@@ -274,16 +307,13 @@ pub fn decimate_scene(
         push.resize(push.len() + own.pieces.len(), surface_push.get(i).copied());
         cells.append(&own);
     }
-    Ok((
-        out,
-        Some(SceneCells {
-            pieces,
-            push,
-            values,
-            corners: None,
-            cover: cells,
-        }),
-    ))
+    Ok(Some(SceneCells {
+        pieces,
+        push,
+        values,
+        corners: None,
+        cover: cells,
+    }))
 }
 
 /// How the budget went: the share of each surface's triangles kept, the least and
