@@ -29,10 +29,12 @@ pub use strata_grid as grid;
 pub use strata_lod as lod;
 pub use strata_render as render;
 
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod engine;
 mod error;
 pub mod memory;
+pub mod metrics;
 pub mod progress;
 pub mod scene;
 pub mod surfaces;

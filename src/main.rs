@@ -2,7 +2,6 @@
 
 mod cli;
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -29,82 +28,9 @@ enum Command {
     /// Levels of detail: build a model's hierarchy file, or view one.
     #[command(subcommand)]
     Lod(cli::lod::LodCommand),
-    /// Benchmarks (on demand; print a table, or JSON with --json).
-    #[command(subcommand)]
-    Bench(BenchCommand),
-}
-
-#[derive(Subcommand)]
-enum BenchCommand {
-    /// Read throughput of GRDECL and EGRID, ours beside resdata and xtgeo.
-    Io {
-        /// Print one JSON object.
-        #[arg(long)]
-        json: bool,
-        /// Folder of real models (default: ../shared/data beside the repository).
-        #[arg(long)]
-        data: Option<PathBuf>,
-    },
-    /// Decimation: fidelity of the original wireframe on decimated surfaces (geometric
-    /// and in pixels) and speed, ours beside meshoptimizer's simplifiers.
-    Lod {
-        /// Print one JSON object.
-        #[arg(long)]
-        json: bool,
-        /// Folder of real models (default: ../shared/data beside the repository).
-        #[arg(long)]
-        data: Option<PathBuf>,
-        /// 10 % only, one view, the smallest generated layer.
-        #[arg(long)]
-        quick: bool,
-        /// Also write the frames of the hierarchy comparison as PNG into this folder.
-        #[arg(long)]
-        images: Option<PathBuf>,
-    },
-    /// Frame times of every wireframe technique against the shaded surface alone, in
-    /// retained and immediate mode (Celes & Abraham's Tables 3 and 2).
-    Wire {
-        /// Print one JSON object.
-        #[arg(long)]
-        json: bool,
-        /// One 1M-triangle model and a few frames (under two minutes), not the full run.
-        #[arg(long)]
-        quick: bool,
-        /// Only these mesh sizes, in this order (0.1m, 0.4m, 1m, 4m; default: all).
-        #[arg(long, value_delimiter = ',')]
-        sizes: Vec<String>,
-        /// Only these mesh kinds, in this order (sphere, terrain, reservoir; default:
-        /// all).
-        #[arg(long, value_delimiter = ',')]
-        kinds: Vec<String>,
-    },
-    /// Line coverage of every wireframe technique against the exact coverage of the
-    /// visible edges (16 x 16 samples per pixel): RMS error, missing and extra pixels.
-    Quality {
-        /// Print one JSON object.
-        #[arg(long)]
-        json: bool,
-        /// Also write every frame and reference as PNG into this folder.
-        #[arg(long)]
-        images: Option<PathBuf>,
-    },
-    /// Frame times of the retained scene renderer: the first frame (read, build,
-    /// draw), and next frames of new cameras beside the renderer's own draw.
-    Scene {
-        /// Print one JSON object.
-        #[arg(long)]
-        json: bool,
-        /// Folder of real models (default: ../shared/data beside the repository).
-        #[arg(long)]
-        data: Option<PathBuf>,
-    },
-    /// Isoline quality against an analytic reference (16x16 supersampled) and frame
-    /// times: texture isolines (adjust on/off) beside marching triangles + lines.
-    Isolines {
-        /// Print one JSON object.
-        #[arg(long)]
-        json: bool,
-    },
+    /// Benchmarks (on demand; print a table, or JSON with --json); in builds with
+    /// `--features bench`.
+    Bench(cli::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -120,22 +46,7 @@ fn main() -> ExitCode {
         Command::Render(args) => cli::render::run(&args),
         Command::Terrain(args) => cli::terrain::run(&args),
         Command::Lod(command) => cli::lod::run(&command),
-        Command::Bench(BenchCommand::Io { json, data }) => bench_io(json, data),
-        Command::Bench(BenchCommand::Lod {
-            json,
-            data,
-            quick,
-            images,
-        }) => bench_lod(json, data, quick, images),
-        Command::Bench(BenchCommand::Isolines { json }) => bench_isolines(json),
-        Command::Bench(BenchCommand::Scene { json, data }) => bench_scene(json, data),
-        Command::Bench(BenchCommand::Wire {
-            json,
-            quick,
-            sizes,
-            kinds,
-        }) => bench_wire(json, quick, &sizes, &kinds),
-        Command::Bench(BenchCommand::Quality { json, images }) => bench_quality(json, images),
+        Command::Bench(args) => cli::bench::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -211,79 +122,4 @@ fn message(e: &anyhow::Error) -> String {
         }
     }
     out
-}
-
-fn bench_lod(
-    json: bool,
-    data: Option<PathBuf>,
-    quick: bool,
-    images: Option<PathBuf>,
-) -> anyhow::Result<()> {
-    use strata::bench::lod;
-    let data = data.unwrap_or_else(lod::default_data);
-    let config = if quick { &lod::QUICK } else { &lod::FULL };
-    let report = lod::run(&data, config, images.as_deref())?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        lod::print_table(&report);
-    }
-    Ok(())
-}
-
-fn bench_io(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {
-    let data =
-        data.unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"));
-    let report = strata::bench::io::run(&data)?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        strata::bench::io::print_table(&report);
-    }
-    Ok(())
-}
-
-fn bench_wire(json: bool, quick: bool, sizes: &[String], kinds: &[String]) -> anyhow::Result<()> {
-    use strata::bench::wire::{self, Plan};
-    let plan = if quick { Plan::quick() } else { Plan::full() };
-    let report = wire::run(&plan.select(sizes, kinds)?)?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        wire::print_table(&report);
-    }
-    Ok(())
-}
-
-fn bench_isolines(json: bool) -> anyhow::Result<()> {
-    let report = strata::bench::isolines::run()?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        strata::bench::isolines::print_table(&report);
-    }
-    Ok(())
-}
-
-fn bench_scene(json: bool, data: Option<PathBuf>) -> anyhow::Result<()> {
-    let data =
-        data.unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data"));
-    let report = strata::bench::scene::run(&data)?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        strata::bench::scene::print_table(&report);
-    }
-    Ok(())
-}
-
-fn bench_quality(json: bool, images: Option<PathBuf>) -> anyhow::Result<()> {
-    use strata::bench::quality;
-    let report = quality::run(images.as_deref())?;
-    if json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
-    } else {
-        quality::print_table(&report);
-    }
-    Ok(())
 }

@@ -33,3 +33,16 @@ pub fn available_memory() -> Option<f64> {
         .ok()?;
     Some(1024.0 * kb)
 }
+
+/// Peak resident memory of this process (VmHWM), kB.
+pub fn peak_memory_kb() -> Option<u64> {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()?
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))?
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()
+}

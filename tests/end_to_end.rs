@@ -6,9 +6,9 @@
 
 use std::path::Path;
 
-use strata::bench::lod::{f1, line_mask};
 use strata::grid::SurfaceMesh;
 use strata::lod::{Options, decimate};
+use strata::metrics::{f1, line_mask};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
 use strata::surfaces::{SceneOptions, build};

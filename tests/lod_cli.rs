@@ -514,7 +514,7 @@ fn isoline_pixels(plain: &image::RgbaImage, with: &image::RgbaImage) -> Vec<bool
 /// that `want` has isolines.
 fn isoline_f1(got: &[bool], want: &[bool], label: &str) -> f64 {
     let count = |m: &[bool]| m.iter().filter(|&&p| p).count();
-    let (_, _, f1) = strata::bench::lod::f1(got, want, 500, 1);
+    let (_, _, f1) = strata::metrics::f1(got, want, 500, 1);
     eprintln!(
         "{label}: isoline pixels {} against {}; F1 {f1:.3}",
         count(got),

@@ -144,8 +144,7 @@ fn build(args: &BuildArgs) -> Result<()> {
         size_text(report.bytes),
         report.seconds,
         start.elapsed().as_secs_f64(),
-        strata::bench::lod::peak_memory_kb()
-            .map_or("unknown".to_string(), |kb| size_text(kb * 1000)),
+        strata::memory::peak_memory_kb().map_or("unknown".to_string(), |kb| size_text(kb * 1000)),
     );
     Ok(())
 }

@@ -8,6 +8,7 @@ use strata::Note;
 use strata::engine::Model;
 use strata::scene::ModelSource;
 
+pub mod bench;
 pub mod info;
 pub mod lod;
 pub mod render;
