@@ -23,13 +23,17 @@ pub enum Error {
     /// A scene file that is not a scene: the path and serde's line and column.
     #[error("{path}: {message}", path = .path.display())]
     SceneFile {
+        /// The scene file.
         path: std::path::PathBuf,
+        /// What reading or parsing it said.
         message: String,
     },
     /// A step of the engine failed; `doing` says which, `source` why.
     #[error("{doing}: {source}")]
     While {
+        /// The step, in words.
         doing: String,
+        /// Why it failed.
         #[source]
         source: Box<Error>,
     },

@@ -129,8 +129,11 @@ pub enum Part {
     /// The faces of the cells in rows `rows` of one layer's top or bottom: a layer
     /// with more active cells than a part, cut into bands.
     Band {
+        /// The layer (0-based).
         layer: usize,
+        /// Its top or bottom faces.
         face: Face,
+        /// The rows of cells (0-based, end exclusive).
         rows: Range<usize>,
     },
     /// The bottom faces of the deepest layer, which close the stack.
@@ -303,8 +306,8 @@ const ROWS_PER_PIECE: usize = 64;
 /// together in order. The faces, their order and every corner's position, texture
 /// coordinates and value are those of [`build_part`]; only the nodes on the seams
 /// between pieces get a vertex in each piece, which changes no pixel. A part holds a
-/// few layers, so building it a layer a thread had kept two of the H200 machine's 16
-/// cores busy: 11.6 of a 14.2 s frame of a 185 M-triangle model went to it.
+/// few layers, so building it a layer a thread left most cores of a many-core machine
+/// idle, and the building took most of a frame (docs/performance.md).
 pub fn build_part_on_all_cores(
     grid: &CornerPointGrid,
     options: &SceneOptions,
@@ -358,7 +361,9 @@ fn build_part_in_pieces(
 /// faces, which says what of each layer a close-up needs.
 #[derive(Clone, Debug)]
 pub struct SceneExtent {
+    /// The framing of every vertex of the scene, for its view.
     pub framing: Framing,
+    /// Triangles of the whole scene.
     pub triangles: usize,
     /// All the grid's columns, and how many on a side of a tile.
     columns: Columns,

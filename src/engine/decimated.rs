@@ -50,13 +50,13 @@ impl SceneCells {
             corners: self.corners.as_deref().map(TiledCells::boxes),
             // Where a decimated surface leaves its piece's cells (an outline corner cut
             // outward, a hole or fault trace crossed), its global coordinates name cells
-            // the input does not have there: not drawn. `bench lod`'s line-pixel F1 at
-            // 10 %, worse of two views: emerald 0.920 without, 0.958 with; Reek 0.995.
+            // the input does not have there: not drawn (it raises `bench lod`'s
+            // line-pixel F1; docs/performance.md).
             mask: true,
             wire,
             // Layers thinner than the decimation's error: where a surface rose
             // through the one above it, its lines showed through that one's cells
-            // (Reek at 10 %, `bench lod`'s line-pixel F1 0.9952 without, 0.9980 with).
+            // (Reek at 10 %; docs/performance.md).
             stacking: Some(Stacking { push: &self.push }),
         }
     }
