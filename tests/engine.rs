@@ -169,3 +169,92 @@ fn a_refused_scene_keeps_the_last_good_one() {
     assert!(engine.render().is_ok());
     assert_eq!(engine.counters().models_read, 1);
 }
+
+/// A generated model with two report steps whose PRESSURE grows east (step 1) and
+/// north (step 2), written as EGRID and UNRST into `dir`.
+fn stepped_model(dir: &std::path::Path) -> PathBuf {
+    use strata::grid::ReportStep;
+    use strata::grid::synth::{SynthParams, generate};
+    let mut grid = generate(&SynthParams {
+        nx: 30,
+        ny: 20,
+        nz: 2,
+        faults: 0,
+        seed: 5,
+    })
+    .expect("a generated grid");
+    let d = grid.dims();
+    let field = |east: bool| {
+        strata::grid::ndarray::Array3::from_shape_fn((d.nz, d.ny, d.nx), |(_, j, i)| {
+            if east { i as f32 } else { j as f32 }
+        })
+    };
+    for (number, east) in [(1, true), (2, false)] {
+        let mut step = ReportStep {
+            number,
+            ..ReportStep::default()
+        };
+        step.arrays.insert("PRESSURE".into(), field(east));
+        grid.report_steps.push(step);
+    }
+    let egrid = dir.join("STEPS.EGRID");
+    strata::grid::save(&grid, &egrid).expect("the grid written");
+    strata::grid::eclbin::write_unrst(&grid, &dir.join("STEPS.UNRST")).expect("the steps written");
+    egrid
+}
+
+#[test]
+fn a_report_step_and_a_colour_range_colour_the_cells() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let mut scene = small(Scene::of_model(stepped_model(dir.path())));
+    scene.colour.property = Some("PRESSURE".into());
+    scene.camera.elevation = 90.0;
+    scene.camera.azimuth = 0.0;
+    let mut engine = SceneRenderer::new(scene.clone()).expect("a scene");
+    let mut draw = |step: Option<i32>, range: Option<[f32; 2]>| {
+        let mut next = scene.clone();
+        next.colour.step = step;
+        next.colour.range = range;
+        engine.set_scene(next).expect("a scene");
+        engine.render().expect("a frame")
+    };
+    let last = draw(None, None);
+    let first = draw(Some(1), None);
+    let second = draw(Some(2), None);
+    assert!(last.image == second.image, "the last step is the default");
+    assert!(
+        first.image != second.image,
+        "the steps colour the cells apart"
+    );
+    // Step 1 grows east: seen from above, a row's colours change along it, a
+    // column's do not (and the other way round for step 2).
+    let (w, h) = first.image.dimensions();
+    let px = |f: &strata::Frame, x: u32, y: u32| f.image.get_pixel(x, y).0;
+    let (mid_x, mid_y) = (w / 2, h / 2);
+    assert!(px(&first, mid_x - 40, mid_y) != px(&first, mid_x + 40, mid_y));
+    assert!(px(&second, mid_x, mid_y - 30) != px(&second, mid_x, mid_y + 30));
+    assert_eq!(
+        second.report.colouring,
+        Some(("PRESSURE".to_string(), (0.0, 19.0)))
+    );
+    // A range of our own is what the colour map spans.
+    let ranged = draw(Some(2), Some([-10.0, 50.0]));
+    assert_eq!(
+        ranged.report.colouring,
+        Some(("PRESSURE".to_string(), (-10.0, 50.0)))
+    );
+    assert!(ranged.image != second.image);
+    // A step the model does not have is named with those it has.
+    let mut missing = scene.clone();
+    missing.colour.step = Some(7);
+    engine.set_scene(missing).expect("checked when drawn");
+    let said = engine
+        .render()
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(
+        said.ends_with("no report step 7; its steps are 1, 2"),
+        "{said}"
+    );
+}

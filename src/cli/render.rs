@@ -14,7 +14,7 @@ use super::ReadArgs;
 use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, parse_iso};
 
 /// The options that describe a scene, which a scene file replaces.
-const SCENE_OPTIONS: [&str; 28] = [
+const SCENE_OPTIONS: [&str; 30] = [
     "model",
     "props",
     "grid_only",
@@ -33,6 +33,8 @@ const SCENE_OPTIONS: [&str; 28] = [
     "property",
     "no_property",
     "smooth",
+    "step",
+    "range",
     "zscale",
     "view",
     "centre",
@@ -71,6 +73,10 @@ pub struct RenderArgs {
     /// Interpolate the property between nodes instead of painting cells flat.
     #[arg(long)]
     smooth: bool,
+    /// Report step (its number, as `strata info` lists them) whose solution arrays
+    /// colour the cells and draw isolines; the last step by default.
+    #[arg(long, value_name = "N")]
+    step: Option<i32>,
     #[command(flatten)]
     frame: FrameArgs,
     /// Output PNG.
@@ -165,6 +171,7 @@ impl RenderArgs {
         scene.colour.property = self.property.clone();
         scene.colour.solid = self.no_property;
         scene.colour.smooth = self.smooth;
+        scene.colour.step = self.step;
         scene.isolines = self.iso.as_ref().map(|(name, spacing)| {
             let mut spec = spacing.spec(Some(name));
             spec.adjust = self.iso_adjust;

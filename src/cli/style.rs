@@ -96,6 +96,10 @@ pub struct StyleArgs {
     /// Map grid lines: SPACING[,X0[,Y0]] in map units, through map (X0, Y0).
     #[arg(long, value_parser = parse_grid_lines)]
     grid_lines: Option<(f64, f64, f64)>,
+    /// Property values at the two ends of the colour map: LO,HI (default: the range
+    /// of the drawn cells' values).
+    #[arg(long, value_name = "LO,HI", value_parser = parse_range)]
+    range: Option<[f32; 2]>,
 }
 
 impl StyleArgs {
@@ -112,6 +116,7 @@ impl StyleArgs {
         };
         scene.colour.colormap = Colormap::from_name(&self.colormap)
             .ok_or_else(|| anyhow!("unknown colour map {:?}", self.colormap))?;
+        scene.colour.range = self.range;
         scene.grid_lines = self.grid_lines.map(|(spacing, x0, y0)| GridLineSpec {
             spacing,
             origin: [x0, y0],
@@ -132,6 +137,18 @@ impl FrameArgs {
             centre: self.centre,
         };
         scene.size = [self.size.0, self.size.1];
+    }
+}
+
+/// LO,HI: finite, LO below HI.
+fn parse_range(s: &str) -> Result<[f32; 2], String> {
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f32>().map_err(|e| format!("{x:?}: {e}")))
+        .collect::<Result<_, _>>()?;
+    match v.as_slice() {
+        [lo, hi] if lo.is_finite() && hi.is_finite() && lo < hi => Ok([*lo, *hi]),
+        _ => Err(format!("expected LO,HI, finite with LO < HI, got {s:?}")),
     }
 }
 
