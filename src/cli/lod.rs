@@ -11,7 +11,8 @@ use strata::lod::{BuildOptions, Options, build_file};
 use strata::scene::{Lod, Scene};
 
 use super::ReadArgs;
-use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, parse_iso_spacing, parse_zscale};
+use super::parse::{IsoSpacing, parse_iso_spacing, parse_zscale};
+use super::style::{FrameArgs, LayerArgs, StyleArgs};
 
 #[derive(Subcommand)]
 pub enum LodCommand {

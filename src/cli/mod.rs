@@ -11,6 +11,7 @@ use strata::scene::ModelSource;
 pub mod bench;
 pub mod info;
 pub mod lod;
+pub mod parse;
 pub mod render;
 pub mod style;
 pub mod synth;

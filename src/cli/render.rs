@@ -11,7 +11,8 @@ use strata::scene::{Lod, ModelSource, Scene};
 use strata::{Frame, Note, SceneRenderer};
 
 use super::ReadArgs;
-use super::style::{FrameArgs, IsoSpacing, LayerArgs, StyleArgs, parse_iso};
+use super::parse::{IsoSpacing, parse_iso};
+use super::style::{FrameArgs, LayerArgs, StyleArgs};
 
 /// The options that describe a scene, which a scene file replaces.
 const SCENE_OPTIONS: [&str; 30] = [

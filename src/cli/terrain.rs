@@ -13,7 +13,7 @@ use strata::render::{
     WireMode,
 };
 
-use super::style::{parse_grid_lines, parse_size, parse_view, parse_zscale};
+use super::parse::{parse_grid_lines, parse_size, parse_view, parse_zscale};
 
 #[derive(Args)]
 pub struct TerrainArgs {
