@@ -48,15 +48,13 @@ use std::time::Instant;
 use strata_grid::SurfaceMesh;
 
 use crate::cover::CellCover;
+use crate::index::MaybeIndex;
 use crate::measure::{Located, LocatedSample, stray_limit};
 use crate::quadric::{Local, Point, Quadric};
 use crate::reference::{
     NONE, Reference, SurfacePoint, VertexTriangles, barycentric, closest_on_triangle, cross2,
 };
 use crate::{Error, Result};
-
-/// `source` of a vertex that a collapse placed (not an input vertex).
-pub const NEW: u32 = u32::MAX;
 
 /// What to simplify to, and how errors are weighed.
 #[derive(Clone, Debug, PartialEq)]
@@ -212,10 +210,10 @@ impl Options {
 pub struct Decimated {
     /// The simplified mesh (no cell faces: its triangles are no longer cell halves).
     pub mesh: SurfaceMesh,
-    /// Per vertex: the input vertex it is, unchanged, or [`NEW`] for a vertex a collapse
+    /// Per vertex: the input vertex it is, unchanged, or none for a vertex a collapse
     /// placed on the reference surface or that moved off it ([`Options::lift`],
     /// [`crate::fit::fit`]).
-    pub source: Vec<u32>,
+    pub source: Vec<MaybeIndex>,
     /// Per vertex: a triangle of the reference surface the vertex lies on.
     pub home: Vec<u32>,
     /// The largest error of an accepted collapse: the square root of the quadric's
@@ -247,14 +245,12 @@ impl Decimated {
             .iter()
             .zip(&self.home)
             .map(|(&source, &home)| {
-                let v = if source == NEW {
+                let v = source.get().unwrap_or_else(|| {
                     input
                         .triangles
                         .get(home as usize)
                         .map_or(u32::MAX, |t| t[0])
-                } else {
-                    source
-                };
+                });
                 cover
                     .vertex_piece
                     .get(v as usize)
@@ -2373,9 +2369,9 @@ impl<'a> Collapser<'a> {
                 out.scalars.push(self.scalar[v]);
             }
             source.push(if self.flags[v] & MOVED != 0 {
-                NEW
+                MaybeIndex::NONE
             } else {
-                self.original[v]
+                MaybeIndex::some(self.original[v])
             });
             home.push(self.home[v]);
         }
@@ -2414,8 +2410,8 @@ mod tests {
         assert!(out.error < 1e-3, "error {}", out.error);
         out.mesh.validate().unwrap();
         // Every vertex kept its attributes (an affine grid needs no new point).
-        for (v, &s) in out.source.iter().enumerate() {
-            if s != NEW {
+        for (v, s) in out.source.iter().enumerate() {
+            if let Some(s) = s.get() {
                 assert_eq!(out.mesh.texcoords[v], mesh.texcoords[s as usize]);
             }
         }
@@ -2502,8 +2498,8 @@ mod tests {
             by_cost.error
         );
         // Every surviving input vertex kept its attributes.
-        for (v, &s) in local.source.iter().enumerate() {
-            if s != NEW {
+        for (v, s) in local.source.iter().enumerate() {
+            if let Some(s) = s.get() {
                 assert_eq!(local.mesh.texcoords[v], mesh.texcoords[s as usize]);
                 assert_eq!(local.mesh.positions[v], mesh.positions[s as usize]);
             }
@@ -2545,7 +2541,7 @@ mod tests {
         assert_eq!(never.home, always.home);
         assert_eq!(never.error, always.error);
         // The fit moved vertices (else it would not test the merges' bookkeeping).
-        assert!(always.source.iter().filter(|&&s| s == NEW).count() > 10);
+        assert!(always.source.iter().filter(|s| s.is_none()).count() > 10);
     }
 
     #[test]

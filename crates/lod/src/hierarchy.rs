@@ -49,7 +49,7 @@ use strata_grid::SurfaceMesh;
 use crate::baseline::{optimize_order, permute_by};
 use crate::measure::{Strays, UvIndex, components};
 use crate::reference::NONE;
-use crate::{Decimated, Error, Options, Reference, Result, decimate_on};
+use crate::{Decimated, Error, MaybeIndex, Options, Reference, Result, decimate_on};
 
 /// Error of a parent, in units in the last place of its largest coordinate
 /// (horizontal and vertical apart), under which its simplification changed nothing
@@ -135,8 +135,8 @@ pub struct Node {
     pub mesh: SurfaceMesh,
     /// Indices of the children in [`LayerTree::nodes`].
     pub children: Vec<u32>,
-    /// Per vertex, the original vertex it is, or [`NONE`] for one placed by a collapse.
-    pub original: Vec<u32>,
+    /// Per vertex, the original vertex it is, or none for one placed by a collapse.
+    pub original: Vec<MaybeIndex>,
     /// Per vertex, a triangle of the original layer it lies on.
     pub home: Vec<u32>,
 }
@@ -497,7 +497,7 @@ fn leaf(layer: &SurfaceMesh, tris: &[u32], tile: [u32; 2], cells: [u32; 4]) -> N
         bounds: mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3])),
         mesh,
         children: Vec::new(),
-        original: verts,
+        original: verts.into_iter().map(MaybeIndex::some).collect(),
         home,
     };
     reorder(&mut node);
@@ -536,8 +536,7 @@ fn parent(
     let mut order: Vec<(u32, u32)> = original
         .iter()
         .enumerate()
-        .filter(|&(_, &o)| o != NONE)
-        .map(|(v, &o)| (o, v as u32))
+        .filter_map(|(v, o)| Some((o.get()?, v as u32)))
         .collect();
     order.sort_unstable();
     let mut weld: Vec<u32> = (0..merged.vertex_count() as u32).collect();
@@ -547,16 +546,21 @@ fn parent(
         }
     }
     // Keep the first vertex of each welded group.
-    let mut keep = vec![NONE; weld.len()];
+    let mut keep = vec![MaybeIndex::NONE; weld.len()];
     let mut next = 0u32;
     for v in 0..weld.len() {
         if weld[v] as usize == v {
-            keep[v] = next;
+            keep[v] = MaybeIndex::some(next);
             next += 1;
         }
     }
+    let welded = |v: u32| {
+        keep[weld[v as usize] as usize]
+            .get()
+            .expect("the first vertex of each welded group is kept")
+    };
     for t in merged.triangles.iter_mut() {
-        *t = t.map(|v| keep[weld[v as usize] as usize]);
+        *t = t.map(welded);
     }
     let n = next as usize;
     permute_by(&mut merged.positions, &keep, n);
@@ -635,8 +639,10 @@ fn parent(
         };
         let mut further = decimate_on(mesh, mesh_home, reference, &locked(mesh), &free)?;
         if from_target {
-            for s in further.source.iter_mut().filter(|s| **s != crate::NEW) {
-                *s = simplified.source[*s as usize];
+            for s in further.source.iter_mut() {
+                if let Some(from) = s.get() {
+                    *s = simplified.source[from as usize];
+                }
             }
         }
         // Kept where it changed nothing and is smaller, or where the target's result
@@ -670,13 +676,7 @@ fn parent(
         original: simplified
             .source
             .iter()
-            .map(|&s| {
-                if s == crate::NEW {
-                    NONE
-                } else {
-                    original[s as usize]
-                }
-            })
+            .map(|s| s.get().map_or(MaybeIndex::NONE, |s| original[s as usize]))
             .collect(),
         home: simplified.home,
         mesh: simplified.mesh,

@@ -21,7 +21,7 @@ use strata_grid::SurfaceMesh;
 
 use crate::decimate::{cross3, dot3, sub3p};
 use crate::reference::{NONE, VertexTriangles, boundary_edges, cross2, triangle_adjacency};
-use crate::{Decimated, NEW};
+use crate::{Decimated, MaybeIndex};
 
 /// What [`stitch`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -173,13 +173,11 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
         let own = Outline::from_edges(output.mesh.vertex_count(), &edges);
         output_edges.push(edges);
         let mut kept = HashMap::new();
-        for (o, &source) in output.source.iter().enumerate() {
+        for (o, source) in output.source.iter().enumerate() {
             if !own.on(o as u32) {
                 continue;
             }
-            let v = if source != NEW {
-                Some(source)
-            } else {
+            let v = source.get().or_else(|| {
                 output.mesh.texcoords.get(o).and_then(|&uv| {
                     let at_home = output
                         .home
@@ -203,7 +201,7 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
                             .copied()
                     })
                 })
-            };
+            });
             if let Some(v) = v.filter(|&v| outline.on(v)) {
                 kept.insert(v, o as u32);
             }
@@ -268,7 +266,7 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
         for &(s, v) in list {
             if let Some(&o) = present[s].get(&v) {
                 outputs[s].mesh.positions[o as usize] = inputs[s].positions[v as usize];
-                outputs[s].source[o as usize] = v;
+                outputs[s].source[o as usize] = MaybeIndex::some(v);
             }
         }
     }
@@ -323,7 +321,7 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
             };
             stitched.skipped += usize::from(!closed);
             outputs[s].mesh.positions[o as usize] = position;
-            outputs[s].source[o as usize] = v;
+            outputs[s].source[o as usize] = MaybeIndex::some(v);
         }
     }
     stitched
@@ -501,7 +499,7 @@ fn put_back(
             *owner = added;
         }
     }
-    output.source.push(v);
+    output.source.push(MaybeIndex::some(v));
     output.home.push(outline.triangle[v as usize]);
     Some(Put {
         vertex: new,

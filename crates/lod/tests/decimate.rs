@@ -8,7 +8,7 @@ mod common;
 use common::{faulted_grid, layer, one_tile_top, shared_data, topology};
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
 use strata_lod::measure::{UvIndex, components, deviation};
-use strata_lod::{Decimated, NEW, Options, Placement, closest_on_triangle, decimate};
+use strata_lod::{Decimated, Options, Placement, closest_on_triangle, decimate};
 
 /// Position tolerance for "on the original surface": f32 rounding of coordinates of a
 /// few kilometres is about 1e-4 m.
@@ -65,8 +65,8 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
     assert_eq!(out.home.len(), mesh.vertex_count());
 
     // Surviving original vertices: attributes bit for bit.
-    for (v, &s) in out.source.iter().enumerate() {
-        if s != NEW {
+    for (v, s) in out.source.iter().enumerate() {
+        if let Some(s) = s.get() {
             let s = s as usize;
             assert_eq!(mesh.texcoords[v], original.texcoords[s], "vertex {v}");
             assert_eq!(mesh.positions[v], original.positions[s], "vertex {v}");
@@ -84,7 +84,7 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
     let tri = |t: &[u32; 3]| t.map(|v| scaled(original.positions[v as usize]));
     let within_error = f64::from(out.error) + ON_SURFACE_M * Z_SCALE;
     let mut new = 0;
-    for (v, _) in out.source.iter().enumerate().filter(|&(_, &s)| s == NEW) {
+    for (v, _) in out.source.iter().enumerate().filter(|(_, s)| s.is_none()) {
         new += 1;
         let p = scaled(mesh.positions[v]);
         let label = labels[out.home[v] as usize];
@@ -210,9 +210,9 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
     for ((a, b), u) in common::edge_uses(mesh) {
         if u == 1 {
             for v in [a, b] {
-                let s = out.source[v as usize];
+                let s = out.source[v as usize].get();
                 assert!(
-                    s != NEW && original_boundary.contains(&s),
+                    s.is_some_and(|s| original_boundary.contains(&s)),
                     "boundary vertex {v} is not an original boundary vertex"
                 );
             }

@@ -9,7 +9,7 @@ use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
 use strata_lod::measure::deviation;
 
 use strata_lod::{
-    BuildOptions, LayerRecord, LayerTree, LodFile, NONE, Node, NodeRecord, ViewPoint, build_file,
+    BuildOptions, LayerRecord, LayerTree, LodFile, Node, NodeRecord, ViewPoint, build_file,
     build_layer,
 };
 
@@ -115,11 +115,10 @@ fn covered(
         if u != 1 || !on_stretch(&a.mesh, p) || !on_stretch(&a.mesh, q) {
             continue;
         }
-        let (op, oq) = (a.original[p as usize], a.original[q as usize]);
-        assert!(
-            op != NONE && oq != NONE,
-            "a border vertex is not an original vertex"
-        );
+        let (Some(op), Some(oq)) = (a.original[p as usize].get(), a.original[q as usize].get())
+        else {
+            panic!("a border vertex is not an original vertex");
+        };
         if original.get(&(op.min(oq), op.max(oq))) != Some(&2) {
             continue;
         }
@@ -208,8 +207,8 @@ fn neighbours_at_every_pair_of_levels_share_their_borders() {
             }));
         }
         // Vertices keep their original texture coordinates where they are original.
-        for (v, &o) in n.original.iter().enumerate() {
-            if o != NONE {
+        for (v, o) in n.original.iter().enumerate() {
+            if let Some(o) = o.get() {
                 assert_eq!(n.mesh.texcoords[v], mesh.texcoords[o as usize]);
             }
         }
@@ -962,8 +961,8 @@ fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_s
             assert!(4 * n.mesh.triangle_count() <= 3 * child.mesh.triangle_count());
             assert!(n.error[0] >= child.error[0] && n.error[1] >= child.error[1]);
         }
-        for (v, &o) in n.original.iter().enumerate() {
-            if o != NONE {
+        for (v, o) in n.original.iter().enumerate() {
+            if let Some(o) = o.get() {
                 assert_eq!(n.mesh.texcoords[v], mesh.texcoords[o as usize]);
             }
         }
