@@ -44,7 +44,7 @@ use strata_grid::{
 
 use crate::cover::cell_corners;
 use crate::hierarchy::{Node, build_layer_with, layer_work};
-use crate::{BuildOptions, CellCover, CoverPiece, Error, Result};
+use crate::{BuildOptions, CellCover, CoverPiece, Error, Progress, Result};
 
 /// 2: the header ends with the property's cell range. 3: each layer surface's cells
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
@@ -535,29 +535,13 @@ fn batch_size(grid: &CornerPointGrid, memory: Option<u64>) -> Result<usize> {
 /// and the bottom faces of the last, like `strata render`), with `property` as scalar,
 /// and writes it to `path`. Layers are built on all cores, in batches whose results
 /// are written in layer order, so the file does not depend on the thread count.
+/// [`BuildOptions::progress`] is told the tiles built, weighed by their work
+/// ([`layer_work`]).
 pub fn build_file(
     grid: &CornerPointGrid,
     property: Option<&str>,
     path: &Path,
     options: &BuildOptions,
-) -> Result<BuildReport> {
-    let bar = indicatif::ProgressBar::hidden();
-    let report = build_file_counted(grid, property, path, options, &bar);
-    bar.finish_and_clear();
-    report
-}
-
-/// [`build_file`], counting on `bar` the tiles built, weighed by their work
-/// ([`layer_work`]), not the layers: a model of a few large layers builds them all at
-/// once, and a bar of layers would stand still for minutes. With
-/// [`BuildOptions::progress`] the bar is drawn on standard error once its length is
-/// known.
-fn build_file_counted(
-    grid: &CornerPointGrid,
-    property: Option<&str>,
-    path: &Path,
-    options: &BuildOptions,
-    bar: &indicatif::ProgressBar,
 ) -> Result<BuildReport> {
     options.check()?;
     let start = Instant::now();
@@ -572,21 +556,16 @@ fn build_file_counted(
         .map(|k| (k, Face::Top))
         .chain((d.nz > 0).then_some((d.nz - 1, Face::Bottom)))
         .collect();
-    bar.set_length(surfaces.len() as u64 * layer_work(dims, options.tile_cells));
-    bar.set_message(format!("0/{} layer surfaces", surfaces.len()));
-    if options.progress {
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {percent:>3} %, {msg} (eta {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        // The clock moves while no tile ends: the side faces come first, and a root
-        // takes a while.
-        bar.enable_steady_tick(std::time::Duration::from_secs(1));
-    }
-    let built = |units: u64| bar.inc(units);
+    let tell = |progress: Progress| {
+        if let Some(f) = &options.progress {
+            f(progress);
+        }
+    };
+    tell(Progress::Started {
+        work: surfaces.len() as u64 * layer_work(dims, options.tile_cells),
+        surfaces: surfaces.len(),
+    });
+    let built = |units: u64| tell(Progress::Worked(units));
     // The side faces of all layers at once, so that a vertex between two layers
     // averages the property over both, as `strata render --sides` draws it.
     let sides = sides_by_layer(&side_surfaces(grid, 0..d.nz, property, origin)?, d.nz);
@@ -632,12 +611,12 @@ fn build_file_counted(
             report.side_triangles += sides.map_or(0, SurfaceMesh::triangle_count);
             writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides)?;
             written += 1;
-            bar.set_message(format!(
-                "{written}/{} layer surfaces, {:.1} M triangles in, {:.1} M stored",
-                surfaces.len(),
-                report.input_triangles as f64 / 1e6,
-                report.stored_triangles as f64 / 1e6
-            ));
+            tell(Progress::Written {
+                written,
+                surfaces: surfaces.len(),
+                input_triangles: report.input_triangles,
+                stored_triangles: report.stored_triangles,
+            });
         }
     }
     let scalar_range = property.map(|name| cell_range(grid, name));
@@ -1415,6 +1394,7 @@ impl LodFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::sync::{Arc, Mutex};
     use strata_grid::synth::{SynthParams, generate};
 
     #[test]
@@ -1435,30 +1415,56 @@ mod tests {
             .slice_mut(strata_grid::ndarray::s![1, .., ..])
             .fill(false);
         let dir = tempfile::tempdir().expect("a temporary folder");
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let tell = Arc::clone(&log);
         let options = BuildOptions {
             tile_cells: 4,
+            progress: Some(Arc::new(move |p| {
+                tell.lock().expect("not poisoned").push(p)
+            })),
             ..BuildOptions::default()
         };
-        let bar = indicatif::ProgressBar::hidden();
         let path = dir.path().join("counted.lod");
-        let report =
-            build_file_counted(&grid, None, &path, &options, &bar).expect("the hierarchy is built");
+        let report = build_file(&grid, None, &path, &options).expect("the hierarchy is built");
         assert_eq!(report.layers, 3, "the empty layer has no surface");
         let whole = 4 * layer_work([30, 20], 4);
-        assert_eq!(bar.length(), Some(whole));
-        assert_eq!(bar.position(), whole);
+        let told = std::mem::take(&mut *log.lock().expect("not poisoned"));
+        assert_eq!(
+            told.first(),
+            Some(&Progress::Started {
+                work: whole,
+                surfaces: 4
+            })
+        );
+        let worked: u64 = told
+            .iter()
+            .map(|p| match p {
+                Progress::Worked(units) => *units,
+                _ => 0,
+            })
+            .sum();
+        assert_eq!(worked, whole);
+        assert!(matches!(
+            told.last(),
+            Some(Progress::Written {
+                written: 4,
+                surfaces: 4,
+                ..
+            })
+        ));
 
-        // Tiles of no cells are refused before any is counted.
+        // Tiles of no cells are refused before anything is told.
         let none = BuildOptions {
             tile_cells: 0,
-            ..BuildOptions::default()
+            ..options
         };
-        let err = build_file_counted(&grid, None, &path, &none, &bar).err();
+        let err = build_file(&grid, None, &path, &none).err();
         assert!(
             err.as_ref()
                 .is_some_and(|e| e.to_string().contains("tile_cells must be in 1..=4096")),
             "{err:?}"
         );
+        assert!(log.lock().expect("not poisoned").is_empty());
     }
 
     #[test]

@@ -43,6 +43,8 @@
 //! than their children, so choosing, per frame, the coarsest nodes whose projected
 //! error is under a pixel budget is a cut through each tree ([`crate::LodFile::select`]).
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
 
@@ -62,8 +64,40 @@ const UNCHANGED_ULPS: f32 = 8.0;
 /// simplifying its outline and pieces within the rules leaves it.
 const COARSEST_TRIANGLES: usize = 64;
 
+/// How far [`crate::build_file`] is, told as it goes: a model of tens of millions of
+/// cells takes minutes, and a front end shows a bar.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// The build begins: `work` units in all over `surfaces` layer surfaces. A unit is
+    /// a leaf tile's worth of work, so that a bar moves within a layer too, where one
+    /// of layers would stand still for minutes on a model of a few large ones.
+    Started {
+        /// Units of work of the whole build.
+        work: u64,
+        /// Layer surfaces the build makes.
+        surfaces: usize,
+    },
+    /// This many more units are done (told from the threads that did them).
+    Worked(u64),
+    /// A layer surface is in the file, with the totals so far.
+    Written {
+        /// Layer surfaces written so far.
+        written: usize,
+        /// Layer surfaces of the whole build.
+        surfaces: usize,
+        /// Triangles of the layer surfaces written.
+        input_triangles: usize,
+        /// Triangles stored for them over all levels.
+        stored_triangles: usize,
+    },
+}
+
+/// Where a build tells its [`Progress`]; called from the threads that build, so it is
+/// shared and thread-safe.
+pub type ProgressFn = Arc<dyn Fn(Progress) + Send + Sync>;
+
 /// How a hierarchy is built.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone)]
 pub struct BuildOptions {
     /// Cells along each side of a leaf tile.
     pub tile_cells: u32,
@@ -74,8 +108,8 @@ pub struct BuildOptions {
     /// How errors are weighed when simplifying (target and error bound are set per
     /// node).
     pub decimation: Options,
-    /// Draw a progress bar on standard error (only when it is a terminal).
-    pub progress: bool,
+    /// Told how far [`crate::build_file`] is; nothing is told without it.
+    pub progress: Option<ProgressFn>,
     /// Bytes the layer surfaces being built at once may hold ([`crate::build_file`]
     /// builds fewer at a time, or refuses, to stay under it); no limit when `None`.
     pub memory: Option<u64>,
@@ -91,9 +125,21 @@ impl Default for BuildOptions {
                 z_scale: 5.0,
                 ..Options::default()
             },
-            progress: false,
+            progress: None,
             memory: None,
         }
+    }
+}
+
+impl std::fmt::Debug for BuildOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BuildOptions")
+            .field("tile_cells", &self.tile_cells)
+            .field("reduction", &self.reduction)
+            .field("decimation", &self.decimation)
+            .field("progress", &self.progress.as_ref().map(|_| "callback"))
+            .field("memory", &self.memory)
+            .finish()
     }
 }
 

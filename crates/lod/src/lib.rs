@@ -44,7 +44,7 @@ pub use error::{Error, Result};
 pub use file::{
     BuildReport, Indices, LayerRecord, LodFile, NodeRecord, Vertex, ViewPoint, build_file,
 };
-pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
+pub use hierarchy::{BuildOptions, LayerTree, Node, Progress, ProgressFn, build_layer};
 pub use index::MaybeIndex;
 pub use reference::{Reference, SurfacePoint, closest_on_triangle};
 pub use share::{MIN_VISIBLE, SurfaceShare, share_budget, share_surfaces};
