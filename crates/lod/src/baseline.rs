@@ -46,6 +46,7 @@ pub enum Simplifier {
 pub const CLUSTER_TRIANGLES: usize = 128;
 
 impl Simplifier {
+    /// Every simplifier, in the order the benchmark reports them.
     pub const ALL: [Simplifier; 5] = [
         Simplifier::Simplify,
         Simplifier::Attributes,
@@ -54,6 +55,7 @@ impl Simplifier {
         Simplifier::ClusterLod,
     ];
 
+    /// The name the benchmark and the CLI report it under.
     pub fn name(self) -> &'static str {
         match self {
             Simplifier::Simplify => "meshopt_simplify",

@@ -50,7 +50,7 @@ const HOLD: f64 = 1e-2;
 /// `z_scale` as the surface is viewed: each vertex moves by at most `reach` (display
 /// length units; the largest distance the samples had before is a natural one) and
 /// only where no triangle around it turns over. A vertex that moved is no longer
-/// its input vertex ([`Decimated::source`] becomes [`NEW`]); texture coordinates,
+/// its input vertex ([`Decimated::source`] becomes none); texture coordinates,
 /// scalars, [`Decimated::home`] and [`Decimated::error`] (the simplifier's) stay.
 /// Returns how many vertices moved.
 pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f64) -> usize {

@@ -191,6 +191,7 @@ pub struct Node {
 /// first, then breadth first, so the children of a node are consecutive.
 #[derive(Clone, Debug, Default)]
 pub struct LayerTree {
+    /// The nodes, coarsest first (see [`LayerTree`]).
     pub nodes: Vec<Node>,
 }
 

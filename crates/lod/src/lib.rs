@@ -22,6 +22,8 @@
 //! * [`measure`]: how far the simplified surface draws each texture coordinate from
 //!   where the original draws it.
 
+#![warn(missing_docs)]
+
 pub mod baseline;
 mod choose;
 mod cover;

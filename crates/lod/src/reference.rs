@@ -30,7 +30,9 @@ const MAX_STEPS: usize = 4096;
 /// coordinates there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
+    /// Index of the triangle of the reference surface.
     pub triangle: u32,
+    /// Weights of the triangle's corners.
     pub barycentric: [f64; 3],
 }
 
@@ -176,6 +178,7 @@ impl<'m> Reference<'m> {
         out
     }
 
+    /// The prepared surface.
     pub fn mesh(&self) -> &'m SurfaceMesh {
         self.mesh
     }

@@ -11,7 +11,7 @@ pub struct Decimated {
     /// The simplified mesh (no cell faces: its triangles are no longer cell halves).
     pub mesh: SurfaceMesh,
     /// Per vertex: the input vertex it is, unchanged, or none for a vertex a collapse
-    /// placed on the reference surface or that moved off it ([`Options::lift`],
+    /// placed on the reference surface or that moved off it ([`crate::Options::lift`],
     /// [`crate::fit::fit`]).
     pub source: Vec<MaybeIndex>,
     /// Per vertex: a triangle of the reference surface the vertex lies on.
@@ -20,6 +20,7 @@ pub struct Decimated {
     /// area-weighted mean squared distance (position with z scaled, texture
     /// coordinates and scalar in length units), in display length units.
     pub error: f32,
+    /// Collapses made (0 from meshoptimizer's simplifiers).
     pub collapses: usize,
     /// Input vertices on outlines, holes and fault traces (on an edge without a
     /// single neighbour), and locked ones: at least the outline corners, so where
@@ -28,7 +29,7 @@ pub struct Decimated {
     /// counts exactly, at the cost of another pass over the mesh). 0 from
     /// meshoptimizer's simplifiers.
     pub outline_vertices: usize,
-    /// With [`Options::cover`], the input's cells, which the decimation kept covered:
+    /// With [`crate::Options::cover`], the input's cells, which the decimation kept covered:
     /// the renderer's mask (with [`Decimated::pieces`]).
     pub cover: Option<CellCover>,
     /// Where the time went, for profiling.
@@ -73,8 +74,9 @@ pub struct Timings {
     pub evaluate: f64,
     /// Choosing and making the collapses (sorting included), each pass.
     pub collapse: f64,
-    /// The final fit ([`Options::lift`]), and locating the input's vertices on the
+    /// The final fit ([`crate::Options::lift`]), and locating the input's vertices on the
     /// result where [`crate::decimate_chosen`] fits it to them.
     pub lift: f64,
+    /// Passes over the edges.
     pub passes: usize,
 }

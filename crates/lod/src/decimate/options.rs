@@ -11,7 +11,7 @@ pub struct Options {
     /// Stop at this many triangles (or above it, when no valid collapse is left or the
     /// error bound is reached).
     pub target_triangles: usize,
-    /// Stop before a collapse whose error (see [`Decimated::error`]) exceeds this, in
+    /// Stop before a collapse whose error (see [`crate::Decimated::error`]) exceeds this, in
     /// display length units; infinite to stop by count only.
     pub max_error: f32,
     /// Vertical exaggeration the surface is viewed with: a vertical error counts this
@@ -47,7 +47,7 @@ pub struct Options {
     /// 1.12e-3 and 1.06e-3 of the extent.
     pub lift: bool,
     /// Let outlines, holes and fault traces move only outward, over cells that the
-    /// piece of surface they bound does not cover ([`CellCover`]): a boundary vertex
+    /// piece of surface they bound does not cover ([`crate::CellCover`]): a boundary vertex
     /// goes onto its neighbour on the boundary only where the boundary turns away from
     /// the surface there (or runs straight), and the triangle the surface gains covers
     /// no cell of its own piece. Drawn with the renderer's cell mask, which discards

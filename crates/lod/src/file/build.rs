@@ -14,7 +14,9 @@ use crate::{BuildOptions, Error, Progress, Result};
 /// What [`build_file`] did.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct BuildReport {
+    /// Layer surfaces with a tree in the file (empty ones have none).
     pub layers: usize,
+    /// Nodes over all layer surfaces.
     pub nodes: usize,
     /// Triangles of the layer surfaces.
     pub input_triangles: usize,
@@ -24,7 +26,9 @@ pub struct BuildReport {
     pub side_triangles: usize,
     /// Highest level (the roots').
     pub levels: u32,
+    /// Size of the file.
     pub bytes: u64,
+    /// Wall-clock time of the build.
     pub seconds: f64,
 }
 
@@ -70,8 +74,8 @@ fn batch_size(grid: &CornerPointGrid, memory: Option<u64>) -> Result<usize> {
 /// and the bottom faces of the last, like `strata render`), with `property` as scalar,
 /// and writes it to `path`. Layers are built on all cores, in batches whose results
 /// are written in layer order, so the file does not depend on the thread count.
-/// [`BuildOptions::progress`] is told the tiles built, weighed by their work
-/// ([`layer_work`]).
+/// [`BuildOptions::progress`] is told the tiles built, each weighed by its work (a
+/// leaf's, or a parent's several times that).
 pub fn build_file(
     grid: &CornerPointGrid,
     property: Option<&str>,

@@ -59,6 +59,7 @@ pub struct LayerRecord {
     /// Byte offset of grid layer `k`'s side faces, on its top surface's record; 0
     /// where there are none.
     pub sides_offset: u64,
+    /// Vertices of the side faces.
     pub side_vertices: u32,
     /// Side faces, two triangles each.
     pub side_faces: u32,
@@ -68,21 +69,27 @@ pub struct LayerRecord {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct NodeRecord {
-    /// Index of the layer surface in [`LodFile::layers`].
+    /// Index of the layer surface in [`crate::LodFile::layers`].
     pub layer: u32,
     /// 0 for leaves.
     pub level: u32,
+    /// Tile coordinates at the node's level.
     pub tile: [u32; 2],
     /// `i0, j0, i1, j1`, ends excluded.
     pub cells: [u32; 4],
     /// Horizontal and vertical geometric error (display length units).
     pub error: [f32; 2],
+    /// Least corner of the node's box (display frame, relative to the file's origin).
     pub min: [f32; 3],
+    /// Greatest corner of the node's box.
     pub max: [f32; 3],
     /// Children are `first_child..first_child + child_count`.
     pub first_child: u32,
+    /// Children of the node (0 for leaves).
     pub child_count: u32,
+    /// Vertices stored for the node.
     pub vertex_count: u32,
+    /// Indices stored for the node, three a triangle.
     pub index_count: u32,
     /// Byte offset of the vertices; the indices follow them.
     pub data_offset: u64,
@@ -113,19 +120,25 @@ pub(super) fn layer_sides_bytes(vertices: u32, faces: u32) -> u64 {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
+    /// Display frame, relative to the file's origin.
     pub position: [f32; 3],
+    /// Global texture coordinates: `(2i + 1, 2j + 1)` at grid node `(i, j)`.
     pub texcoord: [f32; 2],
+    /// The property's value (NaN without one).
     pub scalar: f32,
 }
 
 /// Indices of a node, in their stored width.
 #[derive(Clone, Copy, Debug)]
 pub enum Indices<'a> {
+    /// Nodes of at most 65536 vertices: half the bytes.
     U16(&'a [u16]),
+    /// Larger nodes.
     U32(&'a [u32]),
 }
 
 impl Indices<'_> {
+    /// Number of indices.
     pub fn len(&self) -> usize {
         match self {
             Indices::U16(i) => i.len(),
@@ -133,10 +146,12 @@ impl Indices<'_> {
         }
     }
 
+    /// Whether the node has no index.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
+    /// Index `k`, widened to `u32`.
     pub fn get(&self, k: usize) -> u32 {
         match self {
             Indices::U16(i) => u32::from(i[k]),

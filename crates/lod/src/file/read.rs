@@ -184,6 +184,7 @@ impl LodFile {
         Ok(())
     }
 
+    /// The file this was opened from, for messages.
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -198,10 +199,12 @@ impl LodFile {
         self.header.dims
     }
 
+    /// Cells along each side of a leaf tile.
     pub fn tile_cells(&self) -> u32 {
         self.header.tile_cells
     }
 
+    /// Whether vertices carry the property's value (and layers their cells).
     pub fn has_scalars(&self) -> bool {
         self.header.flags & HAS_SCALARS != 0
     }
@@ -224,11 +227,13 @@ impl LodFile {
         .then_some([lo, hi])
     }
 
+    /// The layer surfaces, in place in the mapped file.
     pub fn layers(&self) -> &[LayerRecord] {
         let o = self.header.layers_offset as usize;
         bytemuck::cast_slice(&self.map[o..o + LAYER_BYTES * self.header.layer_count as usize])
     }
 
+    /// The nodes of all layer surfaces, in place in the mapped file.
     pub fn nodes(&self) -> &[NodeRecord] {
         let o = self.header.nodes_offset as usize;
         bytemuck::cast_slice(&self.map[o..o + NODE_BYTES * self.header.node_count as usize])

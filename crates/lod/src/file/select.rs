@@ -13,6 +13,7 @@ pub struct ViewPoint {
     /// Eye position in the display frame *after* vertical exaggeration (as a camera
     /// fitted with that exaggeration has it).
     pub eye: [f32; 3],
+    /// Vertical exaggeration of the view: errors are projected as drawn.
     pub z_scale: f32,
     /// Vertical field of view, degrees.
     pub fov_y_deg: f32,
