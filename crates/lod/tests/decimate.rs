@@ -72,13 +72,26 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             assert_eq!(mesh.positions[v], original.positions[s], "vertex {v}");
         }
     }
-
-    // New vertices: the original point they stand for is the one of their texture
-    // coordinates (found in texture space), or with `Rule::Nearest` the nearest one
-    // (brute force over all triangles of the vertex's component); distances with z
-    // scaled as the decimation measured them.
     let labels = components(original);
     let index = UvIndex::new(original, labels.clone());
+    let new = check_new_vertices(original, out, rule, (&labels, &index));
+    check_unfolded(original, out, (&labels, &index));
+    check_topology(original, out, &labels);
+    new
+}
+
+/// New vertices of `out`: the original point they stand for is the one of their
+/// texture coordinates (found in texture space), or with `Rule::Nearest` the nearest
+/// one (brute force over all triangles of the vertex's component); distances with z
+/// scaled as the decimation measured them. `labels` are the original's components,
+/// `index` finds its points. Returns how many there are.
+fn check_new_vertices(
+    original: &SurfaceMesh,
+    out: &Decimated,
+    rule: Rule,
+    (labels, index): (&[u32], &UvIndex),
+) -> usize {
+    let mesh = &out.mesh;
     let mut found = Vec::new();
     let scaled = |p: [f32; 3]| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2]) * Z_SCALE];
     let tri = |t: &[u32; 3]| t.map(|v| scaled(original.positions[v as usize]));
@@ -105,7 +118,7 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             Rule::Nearest => original
                 .triangles
                 .iter()
-                .zip(&labels)
+                .zip(labels)
                 .filter(|&(_, &l)| l == label)
                 .map(|(t, _)| {
                     let (d2, w) = closest_on_triangle(p, tri(t));
@@ -142,10 +155,15 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             );
         }
     }
+    new
+}
 
-    // Nothing folded: every triangle keeps the texture-space orientation of the
-    // original (counter-clockwise in layer surfaces) and faces the way the original
-    // faces at its centroid.
+/// Nothing of `out` folded: every triangle keeps the texture-space orientation of the
+/// original (counter-clockwise in layer surfaces) and faces the way the original
+/// faces at its centroid.
+fn check_unfolded(original: &SurfaceMesh, out: &Decimated, (labels, index): (&[u32], &UvIndex)) {
+    let mesh = &out.mesh;
+    let mut found = Vec::new();
     for (i, t) in mesh.triangles.iter().enumerate() {
         let uv = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
         let area = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1])
@@ -181,11 +199,15 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             assert!(dot > 0.0, "triangle {i} faces away from the original");
         }
     }
+}
 
-    // Holes and faults: same components, each with the same boundary loops and Euler
-    // characteristic (a hole closed, a fault stitched or a strip pinched would change
-    // one of them), and boundary vertices only from the original boundary.
-    let before = topology(original, &labels);
+/// Holes and faults of `out`: the same components (`labels`) as the original, each
+/// with the same boundary loops and Euler characteristic (a hole closed, a fault
+/// stitched or a strip pinched would change one of them), and boundary vertices only
+/// from the original boundary.
+fn check_topology(original: &SurfaceMesh, out: &Decimated, labels: &[u32]) {
+    let mesh = &out.mesh;
+    let before = topology(original, labels);
     let after_labels: Vec<u32> = mesh
         .triangles
         .iter()
@@ -218,7 +240,6 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             }
         }
     }
-    new
 }
 
 #[test]
