@@ -2,7 +2,7 @@
 //! of the texture image, boundaries sliding only along themselves (and outward with a
 //! cover), and seams collapsing with their twins.
 
-use super::collapser::*;
+use super::collapser::{ALIVE, BOUNDARY, Collapser, LOCKED, SEAM};
 use super::evaluate::{Choice, Spot};
 use super::vector::{cross3, dot3, sub3};
 use crate::quadric::Local;

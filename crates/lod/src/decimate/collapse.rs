@@ -1,7 +1,7 @@
 //! Making a collapse, and keeping the vertex-to-triangle lists and the dense
 //! numbering of the live vertices up to date between passes.
 
-use super::collapser::*;
+use super::collapser::{ALIVE, Collapser, DEAD, MOVED};
 use super::evaluate::Spot;
 use crate::quadric::Local;
 use crate::reference::NONE;

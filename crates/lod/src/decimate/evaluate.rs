@@ -3,7 +3,7 @@
 //! surface.
 
 use super::Placement;
-use super::collapser::*;
+use super::collapser::{BOUNDARY, Collapser, LOCKED};
 use super::frame::Frame;
 use super::vector::{cross3, dot3, spatial, sub3, sub3p};
 use crate::quadric::Point;
@@ -320,6 +320,7 @@ impl Collapser<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::decimate::collapser::{ALIVE, MOVED};
     use crate::{Options, Reference};
     use strata_grid::SurfaceMesh;
 

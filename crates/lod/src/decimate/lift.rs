@@ -3,7 +3,7 @@
 //! them.
 
 use super::Placement;
-use super::collapser::*;
+use super::collapser::{ALIVE, BOUNDARY, Collapser, DEAD, LOCKED, MOVED};
 use super::evaluate::{Choice, Spot};
 use super::frame::Frame;
 use super::vector::{cross3, dot3, sub3};

@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use super::collapser::*;
+use super::collapser::{BOUNDARY, Collapser, DEAD, SEAM};
 use super::evaluate::{Candidate, Choice};
 use crate::reference::NONE;
 

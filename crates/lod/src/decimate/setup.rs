@@ -4,7 +4,7 @@
 use strata_grid::SurfaceMesh;
 
 use super::collapse::COMPACT_BELOW;
-use super::collapser::*;
+use super::collapser::{ALIVE, BOUNDARY, Collapser, LOCKED, SEAM};
 use super::frame::Frame;
 use super::passes::{LOCAL_ROUNDS, LOCAL_VERTICES, Scratch};
 use super::vector::{cross3, dot3, sub3};
