@@ -2,12 +2,13 @@
 //! (a scene of the hierarchy, drawn by the library's engine).
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use strata::SceneRenderer;
-use strata::lod::{BuildOptions, Options, build_file};
+use strata::lod::{BuildOptions, Options, Progress, ProgressFn, build_file};
 use strata::scene::{Lod, Scene};
 
 use super::ReadArgs;
@@ -120,17 +121,20 @@ fn build(args: &BuildArgs) -> Result<()> {
             n => format!("{n} threads"),
         }
     );
+    let bar = indicatif::ProgressBar::hidden();
     let options = BuildOptions {
         tile_cells: args.tile,
         decimation: Options {
             z_scale: args.zscale,
             ..Options::default()
         },
-        progress: true,
+        progress: Some(progress_bar(bar.clone())),
         memory: super::available_memory().map(|bytes| bytes as u64),
         ..BuildOptions::default()
     };
-    let report = build_file(&grid, property.as_deref(), &args.output, &options)?;
+    let report = build_file(&grid, property.as_deref(), &args.output, &options);
+    bar.finish_and_clear();
+    let report = report?;
     drop(grid);
     eprintln!(
         "{}: {} layer surfaces, {} nodes in {} levels, {} triangles in, {} stored, {} side \
@@ -148,6 +152,38 @@ fn build(args: &BuildArgs) -> Result<()> {
         strata::memory::peak_memory_kb().map_or("unknown".to_string(), |kb| size_text(kb * 1000)),
     );
     Ok(())
+}
+
+/// Draws a hierarchy build's progress on `bar`, on standard error (when it is a
+/// terminal) once the build's length is known.
+fn progress_bar(bar: indicatif::ProgressBar) -> ProgressFn {
+    Arc::new(move |progress| match progress {
+        Progress::Started { work, surfaces } => {
+            bar.set_length(work);
+            bar.set_message(format!("0/{surfaces} layer surfaces"));
+            bar.set_style(
+                indicatif::ProgressStyle::with_template(
+                    "{elapsed_precise} [{bar:40}] {percent:>3} %, {msg} (eta {eta})",
+                )
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            // The clock moves while no tile ends: the side faces come first, and a root
+            // takes a while.
+            bar.enable_steady_tick(Duration::from_secs(1));
+        }
+        Progress::Worked(units) => bar.inc(units),
+        Progress::Written {
+            written,
+            surfaces,
+            input_triangles,
+            stored_triangles,
+        } => bar.set_message(format!(
+            "{written}/{surfaces} layer surfaces, {:.1} M triangles in, {:.1} M stored",
+            input_triangles as f64 / 1e6,
+            stored_triangles as f64 / 1e6
+        )),
+    })
 }
 
 /// `bytes` in GB from a gigabyte up, else in MB.

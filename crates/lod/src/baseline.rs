@@ -19,8 +19,7 @@ use meshopt::{SimplifyOptions, VertexDataAdapter};
 use strata_grid::SurfaceMesh;
 
 use crate::decimate::Frame;
-use crate::reference::NONE;
-use crate::{Decimated, Error, NEW, Options, Reference, Result, ViewPoint};
+use crate::{Decimated, Error, MaybeIndex, Options, Reference, Result, ViewPoint};
 
 /// The meshoptimizer simplifiers compared with ours.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -47,6 +46,7 @@ pub enum Simplifier {
 pub const CLUSTER_TRIANGLES: usize = 128;
 
 impl Simplifier {
+    /// Every simplifier, in the order the benchmark reports them.
     pub const ALL: [Simplifier; 5] = [
         Simplifier::Simplify,
         Simplifier::Attributes,
@@ -55,6 +55,7 @@ impl Simplifier {
         Simplifier::ClusterLod,
     ];
 
+    /// The name the benchmark and the CLI report it under.
     pub fn name(self) -> &'static str {
         match self {
             Simplifier::Simplify => "meshopt_simplify",
@@ -210,14 +211,14 @@ pub fn simplify(
     };
     let reference_triangle = Reference::vertex_triangles(mesh);
     let mut out = SurfaceMesh::with_origin(mesh.origin);
-    let mut remap = vec![NONE; mesh.vertex_count()];
+    let mut remap = vec![MaybeIndex::NONE; mesh.vertex_count()];
     let (mut source, mut home) = (Vec::new(), Vec::new());
     for &v in &result {
         let v = v as usize;
-        if remap[v] != NONE {
+        if remap[v].is_some() {
             continue;
         }
-        remap[v] = out.positions.len() as u32;
+        remap[v] = MaybeIndex::some(out.positions.len() as u32);
         if simplifier == Simplifier::Update {
             let p = positions[v];
             let a = &attributes[3 * v..3 * v + 3];
@@ -232,12 +233,17 @@ pub fn simplify(
                 });
             }
             let moved = out.positions.last() != Some(&mesh.positions[v]);
-            source.push(if moved { NEW } else { v as u32 });
+            source.push(if moved {
+                MaybeIndex::NONE
+            } else {
+                MaybeIndex::some(v as u32)
+            });
         } else {
             push_vertex(&mut out, mesh, v);
-            source.push(v as u32);
+            source.push(MaybeIndex::some(v as u32));
         }
-        home.push(reference_triangle[v]);
+        // meshoptimizer's indices are the input's, each used by an input triangle.
+        home.push(reference_triangle[v].get().expect("a vertex of a triangle"));
     }
     out.triangles = remap_triangles(&result, &remap);
     Ok(Decimated {
@@ -265,10 +271,10 @@ fn push_vertex(out: &mut SurfaceMesh, mesh: &SurfaceMesh, v: usize) {
 /// holding the vertices they use with their attributes.
 pub fn submesh(mesh: &SurfaceMesh, indices: &[u32]) -> SurfaceMesh {
     let mut out = SurfaceMesh::with_origin(mesh.origin);
-    let mut remap = vec![NONE; mesh.vertex_count()];
+    let mut remap = vec![MaybeIndex::NONE; mesh.vertex_count()];
     for &v in indices {
-        if remap[v as usize] == NONE {
-            remap[v as usize] = out.positions.len() as u32;
+        if remap[v as usize].is_none() {
+            remap[v as usize] = MaybeIndex::some(out.positions.len() as u32);
             push_vertex(&mut out, mesh, v as usize);
         }
     }
@@ -423,11 +429,17 @@ impl ClusterLod {
     }
 }
 
-/// Triangles of the flat index list `indices`, each index through `remap`.
-fn remap_triangles(indices: &[u32], remap: &[u32]) -> Vec<[u32; 3]> {
+/// Triangles of the flat index list `indices`, each index through `remap`, which
+/// gives each of them a new index.
+fn remap_triangles(indices: &[u32], remap: &[MaybeIndex]) -> Vec<[u32; 3]> {
+    let new = |v: u32| {
+        remap[v as usize]
+            .get()
+            .expect("the remap gives every vertex of a triangle an index")
+    };
     indices
         .chunks_exact(3)
-        .map(|t| [t[0], t[1], t[2]].map(|v| remap[v as usize]))
+        .map(|t| [t[0], t[1], t[2]].map(new))
         .collect()
 }
 
@@ -447,17 +459,17 @@ fn extent(positions: &[[f32; 3]]) -> f64 {
 /// Reorders `mesh` for the GPU: triangles for the post-transform vertex cache
 /// (meshoptimizer's `optimizeVertexCache`), then vertices in order of first use so
 /// that fetches run forward through memory. Returns the new index of each old vertex
-/// ([`NONE`] for a vertex no triangle uses, which is dropped); apply it to any
+/// (none for a vertex no triangle uses, which is dropped); apply it to any
 /// per-vertex data kept beside the mesh. Cell faces are dropped (the triangles they
 /// name move).
-pub fn optimize_order(mesh: &mut SurfaceMesh) -> Vec<u32> {
+pub fn optimize_order(mesh: &mut SurfaceMesh) -> Vec<MaybeIndex> {
     let indices: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
     let indices = meshopt::optimize_vertex_cache(&indices, mesh.vertex_count());
-    let mut remap = vec![NONE; mesh.vertex_count()];
+    let mut remap = vec![MaybeIndex::NONE; mesh.vertex_count()];
     let mut next = 0u32;
     for &v in &indices {
-        if remap[v as usize] == NONE {
-            remap[v as usize] = next;
+        if remap[v as usize].is_none() {
+            remap[v as usize] = MaybeIndex::some(next);
             next += 1;
         }
     }
@@ -472,11 +484,11 @@ pub fn optimize_order(mesh: &mut SurfaceMesh) -> Vec<u32> {
     remap
 }
 
-/// Moves `data[old]` to `data[remap[old]]`, dropping entries mapped to [`NONE`].
-pub fn permute_by<T: Copy + Default>(data: &mut Vec<T>, remap: &[u32], len: usize) {
+/// Moves `data[old]` to `data[remap[old]]`, dropping entries mapped to none.
+pub fn permute_by<T: Copy + Default>(data: &mut Vec<T>, remap: &[MaybeIndex], len: usize) {
     let mut out = vec![T::default(); len];
-    for (old, &new) in remap.iter().enumerate() {
-        if new != NONE {
+    for (old, new) in remap.iter().enumerate() {
+        if let Some(new) = new.get() {
             out[new as usize] = data[old];
         }
     }
@@ -507,7 +519,8 @@ mod tests {
             assert!((100..=260).contains(&n), "{}: {n} triangles", s.name());
             if s != Simplifier::Update {
                 // Kept vertices are input vertices, attributes and all.
-                for (v, &src) in out.source.iter().enumerate() {
+                for (v, src) in out.source.iter().enumerate() {
+                    let src = src.get().expect("an input vertex");
                     assert_eq!(out.mesh.texcoords[v], mesh.texcoords[src as usize]);
                 }
             }
@@ -557,7 +570,8 @@ mod tests {
                 (area - whole).abs() < 1e-3 * whole,
                 "{target}: the cut covers {area} of {whole}"
             );
-            for (v, &src) in cut.source.iter().enumerate() {
+            for (v, src) in cut.source.iter().enumerate() {
+                let src = src.get().expect("an input vertex");
                 assert_eq!(cut.mesh.texcoords[v], mesh.texcoords[src as usize]);
             }
             last = n;
@@ -639,7 +653,7 @@ mod tests {
             .map(|t| t.map(|v| mesh.texcoords[v as usize]))
             .collect();
         let remap = optimize_order(&mut mesh);
-        assert!(remap.iter().all(|&r| r != NONE));
+        assert!(remap.iter().all(|r| r.is_some()));
         mesh.validate().unwrap();
         let mut after: Vec<[[f32; 2]; 3]> = mesh
             .triangles

@@ -81,6 +81,7 @@ const FIT_NEAR_BOUND: f64 = 2.5;
 /// Who made a [`Chosen`] decimation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Maker {
+    /// Ours ([`crate::decimate()`]).
     Strata,
     /// meshoptimizer's `simplify` ([`Simplifier::Simplify`]), fitted.
     Meshopt,
@@ -92,6 +93,7 @@ pub struct Chosen {
     /// With [`Maker::Meshopt`], its `error` is meshoptimizer's, in display length
     /// units.
     pub decimated: Decimated,
+    /// Whose decimation it is.
     pub maker: Maker,
     /// Where the result was [`fit`]ted, its scores (`score`: RMS distance of the original
     /// grid lines, display length units, z scaled) before and after.

@@ -106,6 +106,7 @@ pub struct CellCover {
     /// Per vertex of the surface it was made from: its piece (`u32::MAX` for a
     /// vertex no triangle uses).
     pub vertex_piece: Vec<u32>,
+    /// The pieces, each with the cells it covers.
     pub pieces: Vec<CoverPiece>,
 }
 

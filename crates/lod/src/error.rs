@@ -15,15 +15,20 @@ pub enum Error {
     /// Reading or writing a file failed.
     #[error("{path}: {source}")]
     Io {
+        /// The file.
         path: PathBuf,
+        /// What the system said.
         source: std::io::Error,
     },
     /// A hierarchy file is not one this version wrote, or is damaged; `at` is the byte
     /// offset of the field that failed.
     #[error("{path}: not a valid strata LOD file at byte {at}: {message}")]
     Format {
+        /// The file.
         path: PathBuf,
+        /// Byte offset of the field that failed.
         at: u64,
+        /// What is wrong there.
         message: String,
     },
     /// Extracting a layer surface from the model failed.

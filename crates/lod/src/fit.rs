@@ -28,7 +28,8 @@
 use strata_grid::SurfaceMesh;
 
 use crate::Decimated;
-use crate::decimate::{NEW, coincident, cross3, dot3, sub3p};
+use crate::MaybeIndex;
+use crate::decimate::{coincident, cross3, dot3, sub3p};
 use crate::measure::Located;
 use crate::reference::{NONE, VertexTriangles, boundary_edges, triangle_adjacency};
 
@@ -49,7 +50,7 @@ const HOLD: f64 = 1e-2;
 /// `z_scale` as the surface is viewed: each vertex moves by at most `reach` (display
 /// length units; the largest distance the samples had before is a natural one) and
 /// only where no triangle around it turns over. A vertex that moved is no longer
-/// its input vertex ([`Decimated::source`] becomes [`NEW`]); texture coordinates,
+/// its input vertex ([`Decimated::source`] becomes none); texture coordinates,
 /// scalars, [`Decimated::home`] and [`Decimated::error`] (the simplifier's) stay.
 /// Returns how many vertices moved.
 pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f64) -> usize {
@@ -167,7 +168,7 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
         }
         moved += 1;
         decimated.mesh.positions[v] = [x[v][0], x[v][1], x[v][2] / z_scale].map(|c| c as f32);
-        decimated.source[v] = NEW;
+        decimated.source[v] = MaybeIndex::NONE;
     }
     moved
 }
@@ -273,7 +274,7 @@ mod tests {
         assert_eq!(moved, displaced.mesh.vertex_count());
         let after = located.deviation(&displaced.mesh, 5.0);
         assert!(after.max < HOLD * off, "{after:?}");
-        assert!(displaced.source.iter().all(|&s| s == NEW));
+        assert!(displaced.source.iter().all(|s| s.is_none()));
         assert_eq!(displaced.mesh.texcoords, decimated.mesh.texcoords);
         assert_eq!(
             normals(&displaced.mesh).len(),
@@ -306,7 +307,7 @@ mod tests {
             if decimated.mesh.positions[v] == kept.mesh.positions[v] {
                 assert_eq!(decimated.source[v], kept.source[v]);
             } else {
-                assert_eq!(decimated.source[v], NEW);
+                assert_eq!(decimated.source[v], MaybeIndex::NONE);
             }
         }
     }
@@ -326,7 +327,7 @@ mod tests {
         square.triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
         let fan = Decimated {
             mesh: square,
-            source: vec![0, 1, 2, 3, 4],
+            source: (0..5).map(MaybeIndex::some).collect(),
             home: vec![0; 5],
             error: 0.0,
             collapses: 0,
@@ -374,7 +375,7 @@ mod tests {
                 && (c[2] * 5.0 - want[2]).abs() < 1e-6,
             "{c:?} {want:?}"
         );
-        assert_eq!(inside.source[4], NEW);
+        assert_eq!(inside.source[4], MaybeIndex::NONE);
         assert_eq!(inside.source[..4], fan.source[..4]);
     }
 }

@@ -43,13 +43,15 @@
 //! than their children, so choosing, per frame, the coarsest nodes whose projected
 //! error is under a pixel budget is a cut through each tree ([`crate::LodFile::select`]).
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
 
 use crate::baseline::{optimize_order, permute_by};
 use crate::measure::{Strays, UvIndex, components};
 use crate::reference::NONE;
-use crate::{Decimated, Error, Options, Reference, Result, decimate_on};
+use crate::{Decimated, Error, MaybeIndex, Options, Reference, Result, decimate_on};
 
 /// Error of a parent, in units in the last place of its largest coordinate
 /// (horizontal and vertical apart), under which its simplification changed nothing
@@ -62,8 +64,40 @@ const UNCHANGED_ULPS: f32 = 8.0;
 /// simplifying its outline and pieces within the rules leaves it.
 const COARSEST_TRIANGLES: usize = 64;
 
+/// How far [`crate::build_file`] is, told as it goes: a model of tens of millions of
+/// cells takes minutes, and a front end shows a bar.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// The build begins: `work` units in all over `surfaces` layer surfaces. A unit is
+    /// a leaf tile's worth of work, so that a bar moves within a layer too, where one
+    /// of layers would stand still for minutes on a model of a few large ones.
+    Started {
+        /// Units of work of the whole build.
+        work: u64,
+        /// Layer surfaces the build makes.
+        surfaces: usize,
+    },
+    /// This many more units are done (told from the threads that did them).
+    Worked(u64),
+    /// A layer surface is in the file, with the totals so far.
+    Written {
+        /// Layer surfaces written so far.
+        written: usize,
+        /// Layer surfaces of the whole build.
+        surfaces: usize,
+        /// Triangles of the layer surfaces written.
+        input_triangles: usize,
+        /// Triangles stored for them over all levels.
+        stored_triangles: usize,
+    },
+}
+
+/// Where a build tells its [`Progress`]; called from the threads that build, so it is
+/// shared and thread-safe.
+pub type ProgressFn = Arc<dyn Fn(Progress) + Send + Sync>;
+
 /// How a hierarchy is built.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone)]
 pub struct BuildOptions {
     /// Cells along each side of a leaf tile.
     pub tile_cells: u32,
@@ -74,8 +108,8 @@ pub struct BuildOptions {
     /// How errors are weighed when simplifying (target and error bound are set per
     /// node).
     pub decimation: Options,
-    /// Draw a progress bar on standard error (only when it is a terminal).
-    pub progress: bool,
+    /// Told how far [`crate::build_file`] is; nothing is told without it.
+    pub progress: Option<ProgressFn>,
     /// Bytes the layer surfaces being built at once may hold ([`crate::build_file`]
     /// builds fewer at a time, or refuses, to stay under it); no limit when `None`.
     pub memory: Option<u64>,
@@ -91,9 +125,21 @@ impl Default for BuildOptions {
                 z_scale: 5.0,
                 ..Options::default()
             },
-            progress: false,
+            progress: None,
             memory: None,
         }
+    }
+}
+
+impl std::fmt::Debug for BuildOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BuildOptions")
+            .field("tile_cells", &self.tile_cells)
+            .field("reduction", &self.reduction)
+            .field("decimation", &self.decimation)
+            .field("progress", &self.progress.as_ref().map(|_| "callback"))
+            .field("memory", &self.memory)
+            .finish()
     }
 }
 
@@ -135,8 +181,8 @@ pub struct Node {
     pub mesh: SurfaceMesh,
     /// Indices of the children in [`LayerTree::nodes`].
     pub children: Vec<u32>,
-    /// Per vertex, the original vertex it is, or [`NONE`] for one placed by a collapse.
-    pub original: Vec<u32>,
+    /// Per vertex, the original vertex it is, or none for one placed by a collapse.
+    pub original: Vec<MaybeIndex>,
     /// Per vertex, a triangle of the original layer it lies on.
     pub home: Vec<u32>,
 }
@@ -145,6 +191,7 @@ pub struct Node {
 /// first, then breadth first, so the children of a node are consecutive.
 #[derive(Clone, Debug, Default)]
 pub struct LayerTree {
+    /// The nodes, coarsest first (see [`LayerTree`]).
     pub nodes: Vec<Node>,
 }
 
@@ -386,17 +433,12 @@ impl LayerBuild<'_> {
             None
         } else {
             let nodes: Vec<&Node> = children.iter().map(|c| &c.node).collect();
-            let cells = self.span_cells(level, tile);
-            let node = parent(
-                &self.reference,
-                &self.parts,
-                &nodes,
+            let slot = Slot {
                 level,
                 tile,
-                cells,
-                self.dims,
-                self.options,
-            )?;
+                cells: self.span_cells(level, tile),
+            };
+            let node = self.parent(&nodes, slot, self.options.reduction)?;
             let children = children
                 .into_iter()
                 .map(|c| Kept {
@@ -430,20 +472,12 @@ impl LayerBuild<'_> {
         while top.node.mesh.triangle_count() > COARSEST_TRIANGLES {
             reduction *= 0.5;
             let below = &top.node;
-            let options = BuildOptions {
-                reduction,
-                ..self.options.clone()
+            let slot = Slot {
+                level: below.level + 1,
+                tile: below.tile,
+                cells: below.cells,
             };
-            let mut node = parent(
-                &self.reference,
-                &self.parts,
-                &[&root],
-                below.level + 1,
-                below.tile,
-                below.cells,
-                self.dims,
-                &options,
-            )?;
+            let mut node = self.parent(&[&root], slot, reduction)?;
             if 4 * node.mesh.triangle_count() > 3 * below.mesh.triangle_count() {
                 break;
             }
@@ -497,7 +531,7 @@ fn leaf(layer: &SurfaceMesh, tris: &[u32], tile: [u32; 2], cells: [u32; 4]) -> N
         bounds: mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3])),
         mesh,
         children: Vec::new(),
-        original: verts,
+        original: verts.into_iter().map(MaybeIndex::some).collect(),
         home,
     };
     reorder(&mut node);
@@ -512,178 +546,233 @@ fn reorder(node: &mut Node) {
     permute_by(&mut node.home, &remap, n);
 }
 
-/// A parent: its children merged and welded, simplified with its outer border
-/// locked, and its error measured.
-#[allow(clippy::too_many_arguments)]
-fn parent(
-    reference: &Reference,
-    parts: &LayerParts,
-    children: &[&Node],
+/// Where a node sits in its layer's tree.
+#[derive(Clone, Copy, Debug)]
+struct Slot {
     level: u32,
     tile: [u32; 2],
+    /// Cells covered: `i0, j0, i1, j1`, ends excluded.
     cells: [u32; 4],
-    dims: [u32; 2],
-    options: &BuildOptions,
-) -> Result<Node> {
-    // Merge; vertices that are the same original vertex (the shared borders) are one.
-    let mut merged = SurfaceMesh::with_origin(reference.mesh().origin);
-    let (mut original, mut home) = (Vec::new(), Vec::new());
-    for child in children {
-        merged.append(&child.mesh);
-        original.extend_from_slice(&child.original);
-        home.extend_from_slice(&child.home);
-    }
-    let mut order: Vec<(u32, u32)> = original
-        .iter()
-        .enumerate()
-        .filter(|&(_, &o)| o != NONE)
-        .map(|(v, &o)| (o, v as u32))
-        .collect();
-    order.sort_unstable();
-    let mut weld: Vec<u32> = (0..merged.vertex_count() as u32).collect();
-    for w in order.windows(2) {
-        if w[0].0 == w[1].0 {
-            weld[w[1].1 as usize] = weld[w[0].1 as usize];
-        }
-    }
-    // Keep the first vertex of each welded group.
-    let mut keep = vec![NONE; weld.len()];
-    let mut next = 0u32;
-    for v in 0..weld.len() {
-        if weld[v] as usize == v {
-            keep[v] = next;
-            next += 1;
-        }
-    }
-    for t in merged.triangles.iter_mut() {
-        *t = t.map(|v| keep[weld[v as usize] as usize]);
-    }
-    let n = next as usize;
-    permute_by(&mut merged.positions, &keep, n);
-    permute_by(&mut merged.texcoords, &keep, n);
-    if !merged.scalars.is_empty() {
-        permute_by(&mut merged.scalars, &keep, n);
-    }
-    permute_by(&mut original, &keep, n);
-    permute_by(&mut home, &keep, n);
+}
 
-    // Lock the outer border where a neighbour tile exists.
-    let line = |c: u32| (2 * c + 1) as f32;
-    let locked = |mesh: &SurfaceMesh| -> Vec<bool> {
-        mesh.texcoords
+/// Children merged into one mesh, the vertices they share (the same original
+/// vertex, along their common borders) welded into one.
+struct Merged {
+    mesh: SurfaceMesh,
+    original: Vec<MaybeIndex>,
+    home: Vec<u32>,
+}
+
+impl Merged {
+    fn of(children: &[&Node], origin: [f64; 3]) -> Merged {
+        let mut mesh = SurfaceMesh::with_origin(origin);
+        let (mut original, mut home) = (Vec::new(), Vec::new());
+        for child in children {
+            mesh.append(&child.mesh);
+            original.extend_from_slice(&child.original);
+            home.extend_from_slice(&child.home);
+        }
+        let mut order: Vec<(u32, u32)> = original
             .iter()
-            .map(|&[u, v]| {
-                (cells[0] > 0 && u == line(cells[0]))
-                    || (cells[2] < dims[0] && u == line(cells[2]))
-                    || (cells[1] > 0 && v == line(cells[1]))
-                    || (cells[3] < dims[1] && v == line(cells[3]))
-            })
-            .collect()
-    };
-    let merged_locked = locked(&merged);
-    // The locked border is kept whole, a triangle a vertex at least: beyond it the
-    // inside keeps three quarters of the reduction's target or more.
-    let border = merged_locked.iter().filter(|&&l| l).count();
-    let reduced = ((merged.triangle_count() as f64) * options.reduction).ceil() as usize;
-    let target = reduced.max(border + reduced * 3 / 4);
-    let decimation = Options {
-        target_triangles: target,
-        ..options.decimation.clone()
-    };
-    let mut simplified = decimate_on(&merged, &home, reference, &merged_locked, &decimation)?;
+            .enumerate()
+            .filter_map(|(v, o)| Some((o.get()?, v as u32)))
+            .collect();
+        order.sort_unstable();
+        let mut weld: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
+        for w in order.windows(2) {
+            if w[0].0 == w[1].0 {
+                weld[w[1].1 as usize] = weld[w[0].1 as usize];
+            }
+        }
+        // Keep the first vertex of each welded group.
+        let mut keep = vec![MaybeIndex::NONE; weld.len()];
+        let mut next = 0u32;
+        for v in 0..weld.len() {
+            if weld[v] as usize == v {
+                keep[v] = MaybeIndex::some(next);
+                next += 1;
+            }
+        }
+        let welded = |v: u32| {
+            keep[weld[v as usize] as usize]
+                .get()
+                .expect("the first vertex of each welded group is kept")
+        };
+        for t in mesh.triangles.iter_mut() {
+            *t = t.map(welded);
+        }
+        let n = next as usize;
+        permute_by(&mut mesh.positions, &keep, n);
+        permute_by(&mut mesh.texcoords, &keep, n);
+        if !mesh.scalars.is_empty() {
+            permute_by(&mut mesh.scalars, &keep, n);
+        }
+        permute_by(&mut original, &keep, n);
+        permute_by(&mut home, &keep, n);
+        Merged {
+            mesh,
+            original,
+            home,
+        }
+    }
+}
 
-    // Error: distance to the children's surface at the children's vertices, plus
-    // the children's own error.
-    let deviation = |s: &Decimated| {
-        vertex_deviation(
-            (&merged, &home),
-            (&s.mesh, &s.home),
-            reference.mesh(),
-            parts,
-        )
-    };
-    let mut measured = deviation(&simplified);
-    // Over a flat, affine stretch of layer, collapses that change nothing go on past
-    // the target, and stay if they changed nothing indeed (a quadric's cost is
-    // measured at the vertices only). Tried from the children where they are such
-    // stretches themselves (small by then, and the target may be below what their
-    // locked borders need), else from the target's result where it changed nothing.
-    // A leaf's error is nothing because it is the input, not because it is flat: taken
-    // for flat, the root of a layer of one tile (emerald's, 20 x 40 cells) was the
-    // only child of the second node above it, which kept it whole, and the chain
-    // stopped at half the root's triangles instead of at most COARSEST_TRIANGLES.
-    let unchanged = merged.bounds().map_or([0.0; 2], |(lo, hi)| {
-        let largest = |a: usize| lo[a].abs().max(hi[a].abs());
-        let ulp = |x: f32| f32::from_bits(x.to_bits() + 1) - x;
-        [largest(0).max(largest(1)), largest(2)].map(|x| f64::from(UNCHANGED_ULPS * ulp(x)))
-    });
-    let exact = |error: &[f64]| error[0] <= unchanged[0] && error[1] <= unchanged[1];
-    let flat_children = children
+/// Per vertex of `mesh`, whether it is on the outer border of `cells` where a
+/// neighbour tile exists in a grid of `dims` cells: kept as it is, so that neighbours
+/// meet without cracks.
+fn locked_border(mesh: &SurfaceMesh, cells: [u32; 4], dims: [u32; 2]) -> Vec<bool> {
+    let line = |c: u32| (2 * c + 1) as f32;
+    mesh.texcoords
         .iter()
-        .all(|c| c.level > 0 && exact(&c.error.map(f64::from)));
-    let from_target = !flat_children && exact(&measured);
-    if from_target || flat_children {
+        .map(|&[u, v]| {
+            (cells[0] > 0 && u == line(cells[0]))
+                || (cells[2] < dims[0] && u == line(cells[2]))
+                || (cells[1] > 0 && v == line(cells[1]))
+                || (cells[3] < dims[1] && v == line(cells[3]))
+        })
+        .collect()
+}
+
+impl LayerBuild<'_> {
+    /// A parent at `slot`: its children merged and welded, simplified with its outer
+    /// border locked to `reduction` of their triangles (or more, see
+    /// [`BuildOptions::reduction`]), and its error measured.
+    fn parent(&self, children: &[&Node], slot: Slot, reduction: f64) -> Result<Node> {
+        let merged = Merged::of(children, self.reference.mesh().origin);
+        let merged_locked = locked_border(&merged.mesh, slot.cells, self.dims);
+        // The locked border is kept whole, a triangle a vertex at least: beyond it the
+        // inside keeps three quarters of the reduction's target or more.
+        let border = merged_locked.iter().filter(|&&l| l).count();
+        let reduced = ((merged.mesh.triangle_count() as f64) * reduction).ceil() as usize;
+        let decimation = Options {
+            target_triangles: reduced.max(border + reduced * 3 / 4),
+            ..self.options.decimation.clone()
+        };
+        let simplified = decimate_on(
+            &merged.mesh,
+            &merged.home,
+            &self.reference,
+            &merged_locked,
+            &decimation,
+        )?;
+        // Error: distance to the children's surface at the children's vertices, plus
+        // the children's own error.
+        let measured = self.deviation(&merged, &simplified);
+        let (simplified, measured) =
+            self.past_target(children, &merged, &decimation, simplified, measured, slot)?;
+        let child_error = children.iter().fold([0f32; 2], |e, c| {
+            [e[0].max(c.error[0]), e[1].max(c.error[1])]
+        });
+        let (mut lo, mut hi) = simplified.mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+        for c in children {
+            for a in 0..3 {
+                lo[a] = lo[a].min(c.bounds.0[a]);
+                hi[a] = hi[a].max(c.bounds.1[a]);
+            }
+        }
+        let mut node = Node {
+            level: slot.level,
+            tile: slot.tile,
+            cells: slot.cells,
+            error: [
+                child_error[0] + measured[0] as f32,
+                child_error[1] + measured[1] as f32,
+            ],
+            bounds: (lo, hi),
+            original: simplified
+                .source
+                .iter()
+                .map(|s| {
+                    s.get()
+                        .map_or(MaybeIndex::NONE, |s| merged.original[s as usize])
+                })
+                .collect(),
+            home: simplified.home,
+            mesh: simplified.mesh,
+            children: Vec::new(),
+        };
+        reorder(&mut node);
+        Ok(node)
+    }
+
+    /// Distance from `merged`, the children's surface, to `simplified` (see
+    /// [`vertex_deviation`]).
+    fn deviation(&self, merged: &Merged, simplified: &Decimated) -> [f64; 2] {
+        vertex_deviation(
+            (&merged.mesh, &merged.home),
+            (&simplified.mesh, &simplified.home),
+            self.reference.mesh(),
+            &self.parts,
+        )
+    }
+
+    /// `simplified`, the parent at `slot` simplified from `merged` to the target of
+    /// `decimation` (`measured` its error), or, over a flat, affine stretch of layer,
+    /// one simplified further where that changes nothing.
+    ///
+    /// There collapses that change nothing go on past the target, and stay if they
+    /// changed nothing indeed (a quadric's cost is measured at the vertices only).
+    /// Tried from the children where they are such stretches themselves (small by
+    /// then, and the target may be below what their locked borders need), else from
+    /// the target's result where it changed nothing. A leaf's error is nothing
+    /// because it is the input, not because it is flat: taken for flat, the root of a
+    /// layer of one tile (emerald's, 20 x 40 cells) was the only child of the second
+    /// node above it, which kept it whole, and the chain stopped at half the root's
+    /// triangles instead of at most COARSEST_TRIANGLES.
+    fn past_target(
+        &self,
+        children: &[&Node],
+        merged: &Merged,
+        decimation: &Options,
+        simplified: Decimated,
+        measured: [f64; 2],
+        slot: Slot,
+    ) -> Result<(Decimated, [f64; 2])> {
+        let unchanged = merged.mesh.bounds().map_or([0.0; 2], |(lo, hi)| {
+            let largest = |a: usize| lo[a].abs().max(hi[a].abs());
+            let ulp = |x: f32| f32::from_bits(x.to_bits() + 1) - x;
+            [largest(0).max(largest(1)), largest(2)].map(|x| f64::from(UNCHANGED_ULPS * ulp(x)))
+        });
+        let exact = |error: &[f64]| error[0] <= unchanged[0] && error[1] <= unchanged[1];
+        let flat_children = children
+            .iter()
+            .all(|c| c.level > 0 && exact(&c.error.map(f64::from)));
+        let from_target = !flat_children && exact(&measured);
+        if !from_target && !flat_children {
+            return Ok((simplified, measured));
+        }
         let (mesh, mesh_home) = if from_target {
             (&simplified.mesh, &simplified.home[..])
         } else {
-            (&merged, &home[..])
+            (&merged.mesh, &merged.home[..])
         };
         let free = Options {
             target_triangles: mesh.triangle_count(),
             free_past_target: true,
-            ..decimation
+            ..decimation.clone()
         };
-        let mut further = decimate_on(mesh, mesh_home, reference, &locked(mesh), &free)?;
+        let locked = locked_border(mesh, slot.cells, self.dims);
+        let mut further = decimate_on(mesh, mesh_home, &self.reference, &locked, &free)?;
         if from_target {
-            for s in further.source.iter_mut().filter(|s| **s != crate::NEW) {
-                *s = simplified.source[*s as usize];
+            for s in further.source.iter_mut() {
+                if let Some(from) = s.get() {
+                    *s = simplified.source[from as usize];
+                }
             }
         }
         // Kept where it changed nothing and is smaller, or where the target's result
         // changed something (from the children, the collapses that change nothing can
         // leave more than the target where the scalar is not affine).
-        let further_measured = deviation(&further);
+        let further_measured = self.deviation(merged, &further);
         let smaller = further.mesh.triangle_count() < simplified.mesh.triangle_count();
-        if exact(&further_measured) && (smaller || !exact(&measured)) {
-            (simplified, measured) = (further, further_measured);
-        }
+        Ok(
+            if exact(&further_measured) && (smaller || !exact(&measured)) {
+                (further, further_measured)
+            } else {
+                (simplified, measured)
+            },
+        )
     }
-    let child_error = children.iter().fold([0f32; 2], |e, c| {
-        [e[0].max(c.error[0]), e[1].max(c.error[1])]
-    });
-    let (mut lo, mut hi) = simplified.mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
-    for c in children {
-        for a in 0..3 {
-            lo[a] = lo[a].min(c.bounds.0[a]);
-            hi[a] = hi[a].max(c.bounds.1[a]);
-        }
-    }
-    let mut node = Node {
-        level,
-        tile,
-        cells,
-        error: [
-            child_error[0] + measured[0] as f32,
-            child_error[1] + measured[1] as f32,
-        ],
-        bounds: (lo, hi),
-        original: simplified
-            .source
-            .iter()
-            .map(|&s| {
-                if s == crate::NEW {
-                    NONE
-                } else {
-                    original[s as usize]
-                }
-            })
-            .collect(),
-        home: simplified.home,
-        mesh: simplified.mesh,
-        children: Vec::new(),
-    };
-    reorder(&mut node);
-    Ok(node)
 }
 
 /// Largest horizontal and vertical distance, over the vertices of `from` (vertex `v`

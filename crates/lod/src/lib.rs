@@ -22,6 +22,8 @@
 //! * [`measure`]: how far the simplified surface draws each texture coordinate from
 //!   where the original draws it.
 
+#![warn(missing_docs)]
+
 pub mod baseline;
 mod choose;
 mod cover;
@@ -30,6 +32,7 @@ mod error;
 mod file;
 pub mod fit;
 mod hierarchy;
+mod index;
 pub mod measure;
 mod quadric;
 mod reference;
@@ -38,12 +41,13 @@ mod stitch;
 
 pub use choose::{Chosen, Maker, decimate_chosen};
 pub use cover::{CellCover, CoverPiece, cell_of};
-pub use decimate::{Decimated, NEW, Options, Placement, Timings, decimate, decimate_on};
+pub use decimate::{Decimated, Options, Placement, Timings, decimate, decimate_on};
 pub use error::{Error, Result};
 pub use file::{
     BuildReport, Indices, LayerRecord, LodFile, NodeRecord, Vertex, ViewPoint, build_file,
 };
-pub use hierarchy::{BuildOptions, LayerTree, Node, build_layer};
-pub use reference::{NONE, Reference, SurfacePoint, closest_on_triangle};
+pub use hierarchy::{BuildOptions, LayerTree, Node, Progress, ProgressFn, build_layer};
+pub use index::MaybeIndex;
+pub use reference::{Reference, SurfacePoint, closest_on_triangle};
 pub use share::{MIN_VISIBLE, SurfaceShare, share_budget, share_surfaces};
 pub use stitch::{Stitched, stitch};

@@ -166,6 +166,7 @@ impl<'m> UvIndex<'m> {
         &self.items[self.start[i] as usize..self.start[i + 1] as usize]
     }
 
+    /// The surface searched.
     pub fn mesh(&self) -> &'m SurfaceMesh {
         self.mesh
     }
@@ -351,8 +352,9 @@ fn closest_in_triangle(p: [f64; 2], c: [[f64; 2]; 3]) -> (f64, [f64; 3]) {
 pub struct Deviation {
     /// Samples taken (points along the original cell edges).
     pub samples: usize,
-    /// Largest and root-mean-square distance, in display length units (z scaled).
+    /// Largest distance, in display length units (z scaled).
     pub max: f64,
+    /// Root-mean-square distance, in the same units.
     pub rms: f64,
     /// Samples whose texture coordinate the simplified surface does not draw at all
     /// (outside its simplified boundary); their distance to the nearest point it does
@@ -824,6 +826,7 @@ pub struct LocatedSample {
 /// ([`GridLines::locate`]).
 #[derive(Clone, Debug, Default)]
 pub struct Located {
+    /// The samples, each with the point of the surface found for it.
     pub samples: Vec<LocatedSample>,
     /// Samples with no point of their piece near enough ([`Deviation::missed`]).
     pub missed: usize,

@@ -14,10 +14,12 @@
 
 use strata_grid::SurfaceMesh;
 
-use crate::{Error, Result};
+use crate::{Error, MaybeIndex, Result};
 
-/// "No triangle": across a boundary edge, or a vertex no triangle uses.
-pub const NONE: u32 = u32::MAX;
+/// "No triangle" in the crate's raw `u32` tables (adjacency across a boundary edge,
+/// a vertex no triangle uses), where the hot loops of decimation compare it
+/// directly; what leaves the crate says it with [`MaybeIndex`].
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// Most triangles a walk visits before giving up (a walk in a valid triangulation
 /// reaches its target in about as many steps as triangles lie between; the cap only
@@ -28,7 +30,9 @@ const MAX_STEPS: usize = 4096;
 /// coordinates there.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
+    /// Index of the triangle of the reference surface.
     pub triangle: u32,
+    /// Weights of the triangle's corners.
     pub barycentric: [f64; 3],
 }
 
@@ -162,25 +166,27 @@ impl<'m> Reference<'m> {
         Ok((reference, vt))
     }
 
-    /// A triangle using each vertex of `mesh` ([`NONE`] for unused vertices), without
+    /// A triangle using each vertex of `mesh` (none for unused vertices), without
     /// preparing the mesh.
-    pub fn vertex_triangles(mesh: &SurfaceMesh) -> Vec<u32> {
-        let mut out = vec![NONE; mesh.vertex_count()];
+    pub fn vertex_triangles(mesh: &SurfaceMesh) -> Vec<MaybeIndex> {
+        let mut out = vec![MaybeIndex::NONE; mesh.vertex_count()];
         for (t, tri) in mesh.triangles.iter().enumerate().rev() {
             for &v in tri {
-                out[v as usize] = t as u32;
+                out[v as usize] = MaybeIndex::some(t as u32);
             }
         }
         out
     }
 
+    /// The prepared surface.
     pub fn mesh(&self) -> &'m SurfaceMesh {
         self.mesh
     }
 
-    /// A triangle using vertex `v` ([`NONE`] when no triangle does).
-    pub fn triangle_of(&self, v: u32) -> u32 {
-        self.vertex_triangle[v as usize]
+    /// A triangle using vertex `v`, if any does.
+    pub fn triangle_of(&self, v: u32) -> Option<u32> {
+        let t = self.vertex_triangle[v as usize];
+        (t != NONE).then_some(t)
     }
 
     /// Barycentric coordinates of `uv` in triangle `t`, in texture space; `None` for

@@ -18,6 +18,7 @@ use strata_grid::SurfaceMesh;
 /// A surface to share a budget with: its triangles and the fraction of it seen.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceShare {
+    /// Triangles of the surface.
     pub triangles: usize,
     /// Of the surface's area (projected, summed over the views of the measure), the
     /// fraction no other surface hides: 0 to 1.

@@ -21,7 +21,7 @@ use strata_grid::SurfaceMesh;
 
 use crate::decimate::{cross3, dot3, sub3p};
 use crate::reference::{NONE, VertexTriangles, boundary_edges, cross2, triangle_adjacency};
-use crate::{Decimated, NEW};
+use crate::{Decimated, MaybeIndex};
 
 /// What [`stitch`] did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -54,6 +54,13 @@ type Key = [u32; 3];
 /// An output's outline edges, each with its triangle, kept up to date as edges split.
 type EdgeTriangles = HashMap<(u32, u32), u32>;
 
+/// A mesh's outline edges, each with its triangle ([`outline_edges`]).
+type OutlineEdges = Vec<((u32, u32), u32)>;
+
+/// Outline vertices shared by more than one surface: by position, each surface's
+/// vertex there.
+type SharedNodes = Vec<(Key, Vec<(usize, u32)>)>;
+
 /// The outline of a mesh: per vertex on it, the next and previous vertex along it
 /// (in the triangles' winding) and a triangle with the edge to the next; [`NONE`]
 /// off the outline, and where more than one outline passes through a vertex.
@@ -66,7 +73,7 @@ struct Outline {
 }
 
 /// The outline edges of `mesh` ([`boundary_edges`]).
-fn outline_edges(mesh: &SurfaceMesh) -> Vec<((u32, u32), u32)> {
+fn outline_edges(mesh: &SurfaceMesh) -> OutlineEdges {
     let vt = VertexTriangles::new(mesh.vertex_count(), &mesh.triangles);
     boundary_edges(&mesh.triangles, &triangle_adjacency(&mesh.triangles, &vt))
 }
@@ -123,97 +130,21 @@ impl Outline {
 /// unless there is an output for every input.
 pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitched {
     let mut stitched = Stitched::default();
-    let Some(origin) = inputs.first().map(|m| m.origin) else {
-        return stitched;
-    };
-    if inputs.len() != outputs.len() {
+    if inputs.is_empty() || inputs.len() != outputs.len() {
         return stitched;
     }
     let outlines: Vec<Outline> = inputs.iter().map(|m| Outline::of(m)).collect();
-    // Outline vertices by position, those of more than one surface.
-    let mut at: HashMap<Key, Vec<(usize, u32)>> = HashMap::new();
-    for (s, (mesh, outline)) in inputs.iter().zip(&outlines).enumerate() {
-        if mesh.origin != origin {
-            continue;
-        }
-        for (v, p) in mesh.positions.iter().enumerate() {
-            if outline.on(v as u32) {
-                at.entry(p.map(f32::to_bits))
-                    .or_default()
-                    .push((s, v as u32));
-            }
-        }
-    }
-    at.retain(|_, list| list.iter().any(|&(s, _)| s != list[0].0));
-    if at.is_empty() {
+    let shared = shared_outline_vertices(inputs, &outlines);
+    if shared.is_empty() {
         return stitched;
     }
-    // In one order, so that the result does not depend on the map's.
-    let mut shared: Vec<(Key, Vec<(usize, u32)>)> = at.into_iter().collect();
-    shared.sort_unstable_by_key(|(key, _)| *key);
-    // Per surface, the output vertex of each input outline vertex it kept: by
-    // `source`, or, for one a fit or lift moved (texture coordinates stay), the corner
-    // of its home triangle with its texture coordinates (coincident vertices on two
-    // sides of a seam can share those; they do not share triangles), else the input
-    // outline vertex of its texture coordinates nearest to it.
-    let mut present: Vec<HashMap<u32, u32>> = Vec::with_capacity(inputs.len());
-    let mut output_edges = Vec::with_capacity(inputs.len());
-    for (s, output) in outputs.iter().enumerate() {
-        let (input, outline) = (inputs[s], &outlines[s]);
-        let mut by_texcoord: HashMap<[u32; 2], Vec<u32>> = HashMap::new();
-        for (v, uv) in input.texcoords.iter().enumerate() {
-            if outline.on(v as u32) {
-                by_texcoord
-                    .entry(uv.map(f32::to_bits))
-                    .or_default()
-                    .push(v as u32);
-            }
-        }
-        let edges = outline_edges(&output.mesh);
-        let own = Outline::from_edges(output.mesh.vertex_count(), &edges);
-        output_edges.push(edges);
-        let mut kept = HashMap::new();
-        for (o, &source) in output.source.iter().enumerate() {
-            if !own.on(o as u32) {
-                continue;
-            }
-            let v = if source != NEW {
-                Some(source)
-            } else {
-                output.mesh.texcoords.get(o).and_then(|&uv| {
-                    let at_home = output
-                        .home
-                        .get(o)
-                        .and_then(|&t| input.triangles.get(t as usize))
-                        .and_then(|corners| {
-                            corners.iter().copied().find(|&c| {
-                                outline.on(c) && input.texcoords.get(c as usize) == Some(&uv)
-                            })
-                        });
-                    at_home.or_else(|| {
-                        let here = output.mesh.positions[o];
-                        let distance = |v: &&u32| {
-                            let p = input.positions[**v as usize];
-                            (0..3).map(|k| (p[k] - here[k]).powi(2)).sum::<f32>()
-                        };
-                        by_texcoord
-                            .get(&uv.map(f32::to_bits))?
-                            .iter()
-                            .min_by(|a, b| distance(a).total_cmp(&distance(b)))
-                            .copied()
-                    })
-                })
-            };
-            if let Some(v) = v.filter(|&v| outline.on(v)) {
-                kept.insert(v, o as u32);
-            }
-        }
-        present.push(kept);
-    }
+    let (mut present, mut output_edges): (Vec<_>, Vec<_>) = outputs
+        .iter()
+        .enumerate()
+        .map(|(s, output)| kept_outline_vertices(inputs[s], &outlines[s], output))
+        .unzip();
     // Nodes one surface kept go back into the others.
     let mut missing: Vec<Vec<u32>> = vec![Vec::new(); inputs.len()];
-    // Nodes put on an edge, by their input position: where their copies go.
-    let mut on_edge: HashMap<Key, [f32; 3]> = HashMap::new();
     for (_, list) in &shared {
         if list.iter().any(|(s, v)| present[*s].contains_key(v)) {
             for &(s, v) in list {
@@ -223,6 +154,8 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
             }
         }
     }
+    // Nodes put on an edge, by their input position: where their copies go.
+    let mut on_edge: HashMap<Key, [f32; 3]> = HashMap::new();
     for (s, vertices) in missing.iter_mut().enumerate() {
         if vertices.is_empty() {
             continue;
@@ -268,16 +201,113 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
         for &(s, v) in list {
             if let Some(&o) = present[s].get(&v) {
                 outputs[s].mesh.positions[o as usize] = inputs[s].positions[v as usize];
-                outputs[s].source[o as usize] = v;
+                outputs[s].source[o as usize] = MaybeIndex::some(v);
             }
         }
     }
-    // Then, their neighbours in place, those one surface put on an edge: all copies
-    // at the first point from the input's place towards that edge where none of them
-    // folds a triangle (the surface that split its edge there too), else each copy as
-    // far towards the edge as it goes without folding one.
+    stitched.skipped += follow_to_edges(&shared, &on_edge, &present, outputs);
+    stitched
+}
+
+/// The outline vertices of `inputs` (with their `outlines`) at a position, bit for
+/// bit, where another surface of the same origin has one too, by position, each with
+/// its surface and vertex; in the order of the positions' bits, so that the result
+/// does not depend on a map's order.
+fn shared_outline_vertices(inputs: &[&SurfaceMesh], outlines: &[Outline]) -> SharedNodes {
+    let origin = inputs[0].origin;
+    let mut at: HashMap<Key, Vec<(usize, u32)>> = HashMap::new();
+    for (s, (mesh, outline)) in inputs.iter().zip(outlines).enumerate() {
+        if mesh.origin != origin {
+            continue;
+        }
+        for (v, p) in mesh.positions.iter().enumerate() {
+            if outline.on(v as u32) {
+                at.entry(p.map(f32::to_bits))
+                    .or_default()
+                    .push((s, v as u32));
+            }
+        }
+    }
+    at.retain(|_, list| list.iter().any(|&(s, _)| s != list[0].0));
+    let mut shared: SharedNodes = at.into_iter().collect();
+    shared.sort_unstable_by_key(|(key, _)| *key);
+    shared
+}
+
+/// The output vertex of each outline vertex of `input` (with its `outline`) that
+/// `output` kept, and the output's outline edges. A vertex is found by `source`, or,
+/// for one a fit or lift moved (texture coordinates stay), as the corner of its home
+/// triangle with its texture coordinates (coincident vertices on two sides of a seam
+/// can share those; they do not share triangles), else as the input outline vertex of
+/// its texture coordinates nearest to it.
+fn kept_outline_vertices(
+    input: &SurfaceMesh,
+    outline: &Outline,
+    output: &Decimated,
+) -> (HashMap<u32, u32>, OutlineEdges) {
+    let mut by_texcoord: HashMap<[u32; 2], Vec<u32>> = HashMap::new();
+    for (v, uv) in input.texcoords.iter().enumerate() {
+        if outline.on(v as u32) {
+            by_texcoord
+                .entry(uv.map(f32::to_bits))
+                .or_default()
+                .push(v as u32);
+        }
+    }
+    let edges = outline_edges(&output.mesh);
+    let own = Outline::from_edges(output.mesh.vertex_count(), &edges);
+    let mut kept = HashMap::new();
+    for (o, source) in output.source.iter().enumerate() {
+        if !own.on(o as u32) {
+            continue;
+        }
+        let v = source.get().or_else(|| {
+            output.mesh.texcoords.get(o).and_then(|&uv| {
+                let at_home = output
+                    .home
+                    .get(o)
+                    .and_then(|&t| input.triangles.get(t as usize))
+                    .and_then(|corners| {
+                        corners.iter().copied().find(|&c| {
+                            outline.on(c) && input.texcoords.get(c as usize) == Some(&uv)
+                        })
+                    });
+                at_home.or_else(|| {
+                    let here = output.mesh.positions[o];
+                    let distance = |v: &&u32| {
+                        let p = input.positions[**v as usize];
+                        (0..3).map(|k| (p[k] - here[k]).powi(2)).sum::<f32>()
+                    };
+                    by_texcoord
+                        .get(&uv.map(f32::to_bits))?
+                        .iter()
+                        .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+                        .copied()
+                })
+            })
+        });
+        if let Some(v) = v.filter(|&v| outline.on(v)) {
+            kept.insert(v, o as u32);
+        }
+    }
+    (kept, edges)
+}
+
+/// Moves the copies of the `shared` nodes that one surface put on an edge (`on_edge`,
+/// by input position), the output vertices `present` names in `outputs`: all copies
+/// at the first point from the input's place towards that edge where none of them
+/// folds a triangle (the surface that split its edge there too), else each copy as
+/// far towards the edge as it goes without folding one. Returns the copies that could
+/// not reach the common point ([`Stitched::skipped`]).
+fn follow_to_edges(
+    shared: &SharedNodes,
+    on_edge: &HashMap<Key, [f32; 3]>,
+    present: &[HashMap<u32, u32>],
+    outputs: &mut [&mut Decimated],
+) -> usize {
+    let mut skipped = 0;
     let mut stars: Vec<Option<VertexTriangles>> = (0..outputs.len()).map(|_| None).collect();
-    for (key, list) in &shared {
+    for (key, list) in shared {
         let Some(&edge) = on_edge.get(key) else {
             continue;
         };
@@ -318,15 +348,15 @@ pub fn stitch(inputs: &[&SurfaceMesh], outputs: &mut [&mut Decimated]) -> Stitch
             .collect();
         for ((s, v, o), position) in copies.into_iter().zip(moves) {
             let Some((position, closed)) = position else {
-                stitched.skipped += 1;
+                skipped += 1;
                 continue;
             };
-            stitched.skipped += usize::from(!closed);
+            skipped += usize::from(!closed);
             outputs[s].mesh.positions[o as usize] = position;
-            outputs[s].source[o as usize] = v;
+            outputs[s].source[o as usize] = MaybeIndex::some(v);
         }
     }
-    stitched
+    skipped
 }
 
 /// The normal of triangle `a b c` (twice its area).
@@ -501,7 +531,7 @@ fn put_back(
             *owner = added;
         }
     }
-    output.source.push(v);
+    output.source.push(MaybeIndex::some(v));
     output.home.push(outline.triangle[v as usize]);
     Some(Put {
         vertex: new,

@@ -8,7 +8,7 @@ mod common;
 use common::{faulted_grid, layer, one_tile_top, shared_data, topology};
 use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
 use strata_lod::measure::{UvIndex, components, deviation};
-use strata_lod::{Decimated, NEW, Options, Placement, closest_on_triangle, decimate};
+use strata_lod::{Decimated, Options, Placement, closest_on_triangle, decimate};
 
 /// Position tolerance for "on the original surface": f32 rounding of coordinates of a
 /// few kilometres is about 1e-4 m.
@@ -65,26 +65,39 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
     assert_eq!(out.home.len(), mesh.vertex_count());
 
     // Surviving original vertices: attributes bit for bit.
-    for (v, &s) in out.source.iter().enumerate() {
-        if s != NEW {
+    for (v, s) in out.source.iter().enumerate() {
+        if let Some(s) = s.get() {
             let s = s as usize;
             assert_eq!(mesh.texcoords[v], original.texcoords[s], "vertex {v}");
             assert_eq!(mesh.positions[v], original.positions[s], "vertex {v}");
         }
     }
-
-    // New vertices: the original point they stand for is the one of their texture
-    // coordinates (found in texture space), or with `Rule::Nearest` the nearest one
-    // (brute force over all triangles of the vertex's component); distances with z
-    // scaled as the decimation measured them.
     let labels = components(original);
     let index = UvIndex::new(original, labels.clone());
+    let new = check_new_vertices(original, out, rule, (&labels, &index));
+    check_unfolded(original, out, (&labels, &index));
+    check_topology(original, out, &labels);
+    new
+}
+
+/// New vertices of `out`: the original point they stand for is the one of their
+/// texture coordinates (found in texture space), or with `Rule::Nearest` the nearest
+/// one (brute force over all triangles of the vertex's component); distances with z
+/// scaled as the decimation measured them. `labels` are the original's components,
+/// `index` finds its points. Returns how many there are.
+fn check_new_vertices(
+    original: &SurfaceMesh,
+    out: &Decimated,
+    rule: Rule,
+    (labels, index): (&[u32], &UvIndex),
+) -> usize {
+    let mesh = &out.mesh;
     let mut found = Vec::new();
     let scaled = |p: [f32; 3]| [f64::from(p[0]), f64::from(p[1]), f64::from(p[2]) * Z_SCALE];
     let tri = |t: &[u32; 3]| t.map(|v| scaled(original.positions[v as usize]));
     let within_error = f64::from(out.error) + ON_SURFACE_M * Z_SCALE;
     let mut new = 0;
-    for (v, _) in out.source.iter().enumerate().filter(|&(_, &s)| s == NEW) {
+    for (v, _) in out.source.iter().enumerate().filter(|(_, s)| s.is_none()) {
         new += 1;
         let p = scaled(mesh.positions[v]);
         let label = labels[out.home[v] as usize];
@@ -105,7 +118,7 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             Rule::Nearest => original
                 .triangles
                 .iter()
-                .zip(&labels)
+                .zip(labels)
                 .filter(|&(_, &l)| l == label)
                 .map(|(t, _)| {
                     let (d2, w) = closest_on_triangle(p, tri(t));
@@ -142,10 +155,15 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             );
         }
     }
+    new
+}
 
-    // Nothing folded: every triangle keeps the texture-space orientation of the
-    // original (counter-clockwise in layer surfaces) and faces the way the original
-    // faces at its centroid.
+/// Nothing of `out` folded: every triangle keeps the texture-space orientation of the
+/// original (counter-clockwise in layer surfaces) and faces the way the original
+/// faces at its centroid.
+fn check_unfolded(original: &SurfaceMesh, out: &Decimated, (labels, index): (&[u32], &UvIndex)) {
+    let mesh = &out.mesh;
+    let mut found = Vec::new();
     for (i, t) in mesh.triangles.iter().enumerate() {
         let uv = t.map(|v| mesh.texcoords[v as usize].map(f64::from));
         let area = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1])
@@ -181,11 +199,15 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
             assert!(dot > 0.0, "triangle {i} faces away from the original");
         }
     }
+}
 
-    // Holes and faults: same components, each with the same boundary loops and Euler
-    // characteristic (a hole closed, a fault stitched or a strip pinched would change
-    // one of them), and boundary vertices only from the original boundary.
-    let before = topology(original, &labels);
+/// Holes and faults of `out`: the same components (`labels`) as the original, each
+/// with the same boundary loops and Euler characteristic (a hole closed, a fault
+/// stitched or a strip pinched would change one of them), and boundary vertices only
+/// from the original boundary.
+fn check_topology(original: &SurfaceMesh, out: &Decimated, labels: &[u32]) {
+    let mesh = &out.mesh;
+    let before = topology(original, labels);
     let after_labels: Vec<u32> = mesh
         .triangles
         .iter()
@@ -210,15 +232,14 @@ fn check_placed(original: &SurfaceMesh, out: &Decimated, rule: Rule) -> usize {
     for ((a, b), u) in common::edge_uses(mesh) {
         if u == 1 {
             for v in [a, b] {
-                let s = out.source[v as usize];
+                let s = out.source[v as usize].get();
                 assert!(
-                    s != NEW && original_boundary.contains(&s),
+                    s.is_some_and(|s| original_boundary.contains(&s)),
                     "boundary vertex {v} is not an original boundary vertex"
                 );
             }
         }
     }
-    new
 }
 
 #[test]

@@ -5,18 +5,19 @@ mod common;
 
 use common::{faulted_grid, layer, one_tile_top, shared_data};
 use std::collections::HashMap;
-use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
+use std::ops::Range;
+use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
 use strata_lod::measure::deviation;
 
 use strata_lod::{
-    BuildOptions, LayerRecord, LayerTree, LodFile, NONE, Node, NodeRecord, ViewPoint, build_file,
-    build_layer,
+    BuildOptions, CellCover, LayerRecord, LayerTree, LodFile, Node, NodeRecord, ViewPoint,
+    build_file, build_layer,
 };
 
 /// The full-resolution surface that layer surface `layer` of a file built from `grid`
 /// stores, with `property` as its scalar.
 fn stored_surface(
-    grid: &strata_grid::CornerPointGrid,
+    grid: &CornerPointGrid,
     layer: &LayerRecord,
     property: Option<&str>,
 ) -> SurfaceMesh {
@@ -53,11 +54,7 @@ fn options(tile_cells: u32) -> BuildOptions {
 
 /// A faulted `nx` x `ny` grid, its second layer's top surface, and that surface's
 /// tree in tiles of `tile_cells`.
-fn layer_tree(
-    nx: usize,
-    ny: usize,
-    tile_cells: u32,
-) -> (strata_grid::CornerPointGrid, SurfaceMesh, LayerTree) {
+fn layer_tree(nx: usize, ny: usize, tile_cells: u32) -> (CornerPointGrid, SurfaceMesh, LayerTree) {
     let grid = faulted_grid(nx, ny);
     let mesh = layer(&grid, 1);
     let tree = build_layer(&mesh, [nx as u32, ny as u32], &options(tile_cells)).unwrap();
@@ -66,7 +63,7 @@ fn layer_tree(
 
 /// The hierarchy of `grid` in tiles of `tile_cells`, saved in a temporary folder
 /// (kept while the folder is) and opened.
-fn saved(grid: &strata_grid::CornerPointGrid, tile_cells: u32) -> (tempfile::TempDir, LodFile) {
+fn saved(grid: &CornerPointGrid, tile_cells: u32) -> (tempfile::TempDir, LodFile) {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("model.lod");
     build_file(grid, None, &path, &options(tile_cells)).unwrap();
@@ -115,11 +112,10 @@ fn covered(
         if u != 1 || !on_stretch(&a.mesh, p) || !on_stretch(&a.mesh, q) {
             continue;
         }
-        let (op, oq) = (a.original[p as usize], a.original[q as usize]);
-        assert!(
-            op != NONE && oq != NONE,
-            "a border vertex is not an original vertex"
-        );
+        let (Some(op), Some(oq)) = (a.original[p as usize].get(), a.original[q as usize].get())
+        else {
+            panic!("a border vertex is not an original vertex");
+        };
         if original.get(&(op.min(oq), op.max(oq))) != Some(&2) {
             continue;
         }
@@ -208,8 +204,8 @@ fn neighbours_at_every_pair_of_levels_share_their_borders() {
             }));
         }
         // Vertices keep their original texture coordinates where they are original.
-        for (v, &o) in n.original.iter().enumerate() {
-            if o != NONE {
+        for (v, o) in n.original.iter().enumerate() {
+            if let Some(o) = o.get() {
                 assert_eq!(n.mesh.texcoords[v], mesh.texcoords[o as usize]);
             }
         }
@@ -420,10 +416,21 @@ fn file_round_trip_and_selection() {
     drawn.validate().unwrap();
     assert!(drawn.triangle_count() < report.input_triangles);
 
-    // Each layer's cells: a bit where its surface has the cell's face, and the face's
-    // value; the selection's pieces are its nodes, their boxes the nodes' cells.
+    check_layer_cells(&file, &grid);
+    let tiled = check_selection_values(&file, &chosen, drawn.vertex_count());
+    check_selection_corners(&file, &grid, &chosen, &tiled);
+    // Neither without a property.
+    let plain = LodFile::open(&plain).unwrap();
+    assert!(plain.selection_cover(&chosen).unwrap().is_none());
+    assert!(plain.selection_values(&chosen, None).unwrap().is_none());
+    assert!(plain.selection_corners(&chosen, None).unwrap().is_none());
+}
+
+/// Each layer's cells in `file` (of `grid`, 40 cells across): a bit where its surface
+/// has the cell's face, and the face's value.
+fn check_layer_cells(file: &LodFile, grid: &CornerPointGrid) {
     for (l, layer) in file.layers().iter().enumerate() {
-        let surface = stored_surface(&grid, layer, Some("PORO"));
+        let surface = stored_surface(grid, layer, Some("PORO"));
         let (faces, values) = file.layer_cells(l).expect("cells with a property");
         let has = |c: usize| faces[c / 32] >> (c % 32) & 1 != 0;
         assert_eq!(
@@ -440,19 +447,53 @@ fn file_round_trip_and_selection() {
             );
         }
     }
-    // The values come tile by tile (the leaves' squares), each tile's cells row by row.
+}
+
+/// A selection's cover and values as [`check_selection_values`] read them, with the
+/// range of each tile's values.
+struct TiledValues {
+    cover: CellCover,
+    values: Vec<f32>,
+    tiles: Vec<Range<usize>>,
+}
+
+/// The tiles a view wants of `tiles` in the tests: every third.
+fn wanted(tiles: &[Range<usize>]) -> Vec<bool> {
+    (0..tiles.len()).map(|k| k % 3 == 1).collect()
+}
+
+/// The `wanted` tiles' part of `all`, `per_cell` values a cell, as bits.
+fn marked_part(tiles: &[Range<usize>], wanted: &[bool], all: &[f32], per_cell: usize) -> Vec<u32> {
+    tiles
+        .iter()
+        .zip(wanted)
+        .filter(|(_, w)| **w)
+        .flat_map(|(range, _)| &all[per_cell * range.start..per_cell * range.end])
+        .map(|v| v.to_bits())
+        .collect()
+}
+
+/// `v` bit for bit, so that NaNs compare equal.
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The selection `chosen`'s pieces are its nodes, their boxes the nodes' cells, and
+/// its values come tile by tile (the leaves' squares), each tile's cells row by row;
+/// only the marked tiles' values when a view wants only those.
+fn check_selection_values(file: &LodFile, chosen: &[u32], drawn_vertices: usize) -> TiledValues {
     let side = file.tile_cells();
-    let cover = file.selection_cover(&chosen).unwrap().expect("a property");
+    let cover = file.selection_cover(chosen).unwrap().expect("a property");
     let values = file
-        .selection_values(&chosen, None)
+        .selection_values(chosen, None)
         .unwrap()
         .expect("a property");
     assert_eq!(cover.pieces.len(), chosen.len());
-    assert_eq!(cover.vertex_piece.len(), drawn.vertex_count());
+    assert_eq!(cover.vertex_piece.len(), drawn_vertices);
     let mut first = 0;
     // Per tile of each box, in order, its values' range.
     let mut tiles = Vec::new();
-    for (piece, &i) in cover.pieces.iter().zip(&chosen) {
+    for (piece, &i) in cover.pieces.iter().zip(chosen) {
         let n = &file.nodes()[i as usize];
         let (faces, layer_values) = file.layer_cells(n.layer as usize).unwrap();
         assert_eq!(piece.origin, [n.cells[0] as i32, n.cells[1] as i32]);
@@ -482,43 +523,49 @@ fn file_round_trip_and_selection() {
         cover.pieces.iter().any(|p| p.tile_count(side) > 1),
         "a box of several tiles"
     );
-    // Only the marked tiles' values, one after another, when a view wants only those.
-    let wanted: Vec<bool> = (0..tiles.len()).map(|k| k % 3 == 1).collect();
-    // The marked tiles' part of `all`, `per_cell` values a cell, as bits.
-    let marked_part = |all: &[f32], per_cell: usize| -> Vec<u32> {
-        tiles
-            .iter()
-            .zip(&wanted)
-            .filter(|(_, w)| **w)
-            .flat_map(|(range, _)| &all[per_cell * range.start..per_cell * range.end])
-            .map(|v| v.to_bits())
-            .collect()
-    };
-    let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let wanted = wanted(&tiles);
     let some = file
-        .selection_values(&chosen, Some(&wanted))
+        .selection_values(chosen, Some(&wanted))
         .unwrap()
         .expect("a property");
-    let want = marked_part(&values, 1);
+    let want = marked_part(&tiles, &wanted, &values, 1);
     assert!(!want.is_empty() && bits(&some) == want);
-    assert!(file.selection_values(&chosen, Some(&wanted[1..])).is_err());
+    assert!(file.selection_values(chosen, Some(&wanted[1..])).is_err());
+    TiledValues {
+        cover,
+        values,
+        tiles,
+    }
+}
 
-    // The corners of those boxes' cells: the full-resolution surface's vertex scalars
-    // at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever level the
-    // node is on; NaN where the layer has no face. Each box comes in its leaves' tiles,
-    // tile after tile.
+/// The corners of the cells of the boxes of `chosen`: the full-resolution surface's
+/// vertex scalars at each cell face's corners (0, 0), (1, 0), (1, 1), (0, 1), whatever
+/// level the node is on; NaN where the layer has no face. Each box comes in its
+/// leaves' tiles, tile after tile; only the marked tiles' corners when a view wants
+/// only those.
+fn check_selection_corners(
+    file: &LodFile,
+    grid: &CornerPointGrid,
+    chosen: &[u32],
+    TiledValues {
+        cover,
+        values,
+        tiles,
+    }: &TiledValues,
+) {
+    let side = file.tile_cells();
     let corners = file
-        .selection_corners(&chosen, None)
+        .selection_corners(chosen, None)
         .unwrap()
         .expect("a property");
     assert_eq!(corners.len(), 4 * values.len());
     // Four per cell, in the order of `values`.
     let mut want = vec![f32::NAN; corners.len()];
     let mut first_tile = 0;
-    for (piece, &i) in cover.pieces.iter().zip(&chosen) {
+    for (piece, &i) in cover.pieces.iter().zip(chosen) {
         let n = &file.nodes()[i as usize];
         let layer = &file.layers()[n.layer as usize];
-        let surface = stored_surface(&grid, layer, Some("PORO"));
+        let surface = stored_surface(grid, layer, Some("PORO"));
         for f in &surface.cell_faces {
             let [a, b] = f.triangles.map(|t| surface.triangles[t as usize]);
             let Some((tile, slot)) = piece.tile_slot(side, [f.cell[0] as i32, f.cell[1] as i32])
@@ -537,19 +584,14 @@ fn file_round_trip_and_selection() {
     }
     assert!(want.iter().any(|w| !w.is_nan()));
     assert!(chosen.iter().any(|&i| file.nodes()[i as usize].level > 0));
-    // Only the marked tiles' corners, one after another, when a view wants only those.
+    let wanted = wanted(tiles);
     let some = file
-        .selection_corners(&chosen, Some(&wanted))
+        .selection_corners(chosen, Some(&wanted))
         .unwrap()
         .expect("a property");
-    let want = marked_part(&corners, 4);
+    let want = marked_part(tiles, &wanted, &corners, 4);
     assert!(!want.is_empty() && bits(&some) == want);
-    assert!(file.selection_corners(&chosen, Some(&wanted[1..])).is_err());
-    // Neither without a property.
-    let plain = LodFile::open(&plain).unwrap();
-    assert!(plain.selection_cover(&chosen).unwrap().is_none());
-    assert!(plain.selection_values(&chosen, None).unwrap().is_none());
-    assert!(plain.selection_corners(&chosen, None).unwrap().is_none());
+    assert!(file.selection_corners(chosen, Some(&wanted[1..])).is_err());
 }
 
 /// Layers are built in parallel batches, each written while the next is built: the
@@ -962,8 +1004,8 @@ fn above_the_quadtree_coarser_nodes_over_the_whole_layer_err_no_more_than_they_s
             assert!(4 * n.mesh.triangle_count() <= 3 * child.mesh.triangle_count());
             assert!(n.error[0] >= child.error[0] && n.error[1] >= child.error[1]);
         }
-        for (v, &o) in n.original.iter().enumerate() {
-            if o != NONE {
+        for (v, o) in n.original.iter().enumerate() {
+            if let Some(o) = o.get() {
                 assert_eq!(n.mesh.texcoords[v], mesh.texcoords[o as usize]);
             }
         }
