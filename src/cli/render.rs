@@ -273,16 +273,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 /// Bytes `render` holds per active cell of a part at its peak, painted per cell: the
-/// surfaces, their GPU buffers and the rasterizer's copies. Measured on a 1300 x 1300
-/// layer on lavapipe: global 790, texgs 710, with --iso 1 130, dist 1 260, bias 1 290,
-/// idbuffer 1 350, tex (duplicated vertices) 1 500; rounded up.
+/// surfaces, their GPU buffers and the rasterizer's copies.
 fn bytes_per_cell(wire: WireMode, iso: bool) -> f64 {
-    match wire {
-        WireMode::Tex => 1600.0,
-        WireMode::Bias | WireMode::Dist | WireMode::IdBuffer => 1400.0,
-        _ if iso => 1200.0,
-        _ => 850.0,
-    }
+    wire.bytes_per_cell(iso)
 }
 
 /// Prints what `render` drew, in how long and on what: `drawn` says how much; reading

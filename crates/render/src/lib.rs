@@ -24,11 +24,13 @@ pub use gridlines::GridLines;
 pub use image;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
 pub use renderer::{Renderer, SHARE_SIZE, SHARE_VIEWS, Sampling, View};
-pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
+pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color};
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).
 pub use wgpu;
-pub use wire::{Attenuation, CellDraw, Stacking, TiledCells, WireMode, stack_pushes};
+pub use wire::{
+    Attenuation, CellDraw, Stacking, TiledCells, WireMode, stack_pushes, wire_mode_names,
+};
 
 /// Writes pixels as a PNG file.
 pub fn save_png(image: &image::RgbaImage, path: &std::path::Path) -> Result<()> {

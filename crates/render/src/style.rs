@@ -1,6 +1,6 @@
 //! How a frame looks: line style, colours, colour map.
 
-use crate::wire::{Attenuation, WireMode};
+use crate::wire::Attenuation;
 use crate::{GridLines, Isolines};
 
 /// How line coverage is computed in the fragment shader (DESIGN.md section 3): from
@@ -191,11 +191,6 @@ pub fn parse_color(s: &str) -> Option<[f32; 4]> {
         byte(4)?,
         if hex.len() == 8 { byte(6)? } else { 1.0 },
     ])
-}
-
-/// Names of the wire modes, for command lines and benchmark JSON.
-pub fn wire_mode_names() -> Vec<&'static str> {
-    WireMode::ALL.iter().map(|m| m.name()).collect()
 }
 
 #[cfg(test)]

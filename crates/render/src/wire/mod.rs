@@ -1,5 +1,5 @@
 //! Wireframe techniques. Each family lives in its own module with its WGSL beside it;
-//! they all implement [`Technique`], and [`create`] is the one registration point the
+//! they all implement [`Technique`], and [`TECHNIQUES`] is the one registration table the
 //! renderer, the command line, the tests and the benchmarks iterate over.
 
 mod bias;
@@ -8,10 +8,14 @@ mod idbuffer;
 pub mod labels;
 mod lines;
 pub mod reference;
+mod registry;
 mod texture;
 mod wire_texture;
 
 pub(crate) use lines::chunks;
+pub use registry::{
+    CellBytes, Family, Needs, Registration, TECHNIQUES, WireMode, create, wire_mode_names,
+};
 pub(crate) use texture::CellTechnique;
 pub use texture::{CellDraw, Stacking, TiledCells, stack_pushes};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
@@ -19,73 +23,6 @@ pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 use strata_grid::SurfaceMesh;
 
 use crate::{Coverage, Gpu, HiddenLines, Result, Style};
-
-/// The wireframe techniques.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum WireMode {
-    /// Shaded surface only: the reference every technique is measured against.
-    None,
-    /// Global odd texture coordinates of structured meshes (2i + 1, 2j + 1): draws the
-    /// original grid on any surface that carries them, decimated ones included.
-    Global,
-    /// Per-quad -1 / +1 coordinates (cell faces).
-    Quad,
-    /// Per-vertex α/β/γ labels found by a breadth-first search, duplicating on conflict.
-    Tex,
-    /// Per-triangle coordinates made while pulling vertices (no duplication).
-    TexGs,
-    /// Classic two passes: the fill pushed back by a depth bias, then line primitives
-    /// (screen-space quads for lines wider than a pixel).
-    Bias,
-    /// Bærentzen's single pass: each fragment's window-space distance to its
-    /// triangle's real edges, with Gateau's case for vertices behind the eye.
-    Dist,
-    /// Bærentzen's ID-buffer method: polygon IDs, then line quads kept where the ID
-    /// matches or the depth test passes, then shading.
-    IdBuffer,
-}
-
-impl WireMode {
-    pub const ALL: [WireMode; 8] = [
-        WireMode::None,
-        WireMode::Global,
-        WireMode::Quad,
-        WireMode::Tex,
-        WireMode::TexGs,
-        WireMode::Bias,
-        WireMode::Dist,
-        WireMode::IdBuffer,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            WireMode::None => "none",
-            WireMode::Global => "global",
-            WireMode::Quad => "quad",
-            WireMode::Tex => "tex",
-            WireMode::TexGs => "texgs",
-            WireMode::Bias => "bias",
-            WireMode::Dist => "dist",
-            WireMode::IdBuffer => "idbuffer",
-        }
-    }
-
-    /// Whether the technique's lines are drawn with its polygons, each fragment seeing
-    /// only the depth left before it, so that a scene drawn a part at a time
-    /// ([`crate::Renderer::render_parts`]) looks as drawn at once. Not `bias`, which
-    /// draws every line after every fill (a later part's fill covers the half of a
-    /// line that lay over it), nor `idbuffer`, whose ID buffer holds one drawable's
-    /// polygons.
-    pub fn draws_alone(self) -> bool {
-        !matches!(self, WireMode::Bias | WireMode::IdBuffer)
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name().eq_ignore_ascii_case(name))
-    }
-}
 
 /// What every pipeline of a frame shares: the device, the frame bind group layout
 /// (uniforms, wireframe texture, colour map) and the target formats.
@@ -178,19 +115,6 @@ pub trait Drawable {
     /// another in separate passes give the frame of all at once.
     fn draws_alone(&self) -> bool {
         true
-    }
-}
-
-/// The registry: the technique of `mode`.
-pub fn create(mode: WireMode, ctx: &PipelineContext) -> Box<dyn Technique> {
-    match mode {
-        WireMode::None | WireMode::Global | WireMode::Quad | WireMode::Tex => {
-            Box::new(texture::VertexTechnique::new(mode, ctx))
-        }
-        WireMode::TexGs => Box::new(texture::PulledTechnique::new(ctx)),
-        WireMode::Bias => Box::new(bias::BiasTechnique::new(ctx)),
-        WireMode::Dist => Box::new(distance::DistTechnique::new(ctx)),
-        WireMode::IdBuffer => Box::new(idbuffer::IdBufferTechnique::new(ctx)),
     }
 }
 
