@@ -48,7 +48,7 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
-use crate::wire::{Drawable, FrameTargets, PipelineContext, chunks, pipeline};
+use crate::wire::{Drawable, FrameTargets, PipelineContext, PipelineRequest, chunks, pipeline};
 use crate::{Error, Gpu, Result};
 
 /// The value written for an undefined scalar (see `UNDEFINED_SCALAR` in common.wgsl).
@@ -254,19 +254,17 @@ impl IsolineTechnique {
         ];
         let draw_wire = pipeline(
             ctx,
-            "isolines + wire",
-            &module,
-            ("vs_iso", "fs_iso_wire"),
-            &buffers,
-            &[],
+            &PipelineRequest {
+                buffers: &buffers,
+                ..PipelineRequest::new("isolines + wire", &module, ("vs_iso", "fs_iso_wire"))
+            },
         );
         let draw_plain = pipeline(
             ctx,
-            "isolines",
-            &module,
-            ("vs_iso", "fs_iso"),
-            &buffers,
-            &[],
+            &PipelineRequest {
+                buffers: &buffers,
+                ..PipelineRequest::new("isolines", &module, ("vs_iso", "fs_iso"))
+            },
         );
         IsolineTechnique {
             adjust,

@@ -13,7 +13,7 @@ use wgpu::util::DeviceExt;
 use crate::camera::in_box;
 use crate::gpu::Gpu;
 use crate::renderer::{View, frame_texture, readback_buffer};
-use crate::wire::{DEPTH_FORMAT, PipelineContext, pipeline_into};
+use crate::wire::{DEPTH_FORMAT, PipelineContext, PipelineRequest, pipeline};
 use crate::{Error, Result};
 
 /// Per pixel: piece + 1 (0 where no surface is), the cell's x and y (i32 bits) and the
@@ -158,30 +158,30 @@ fn id_frame(
         ),
     });
     let ctx = PipelineContext { gpu, frame_layout };
-    let pipeline = pipeline_into(
+    let buffers = [
+        Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        }),
+        Some(wgpu::VertexBufferLayout {
+            array_stride: 8,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![1 => Float32x2],
+        }),
+        Some(wgpu::VertexBufferLayout {
+            array_stride: 4,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![2 => Uint32],
+        }),
+    ];
+    let pipeline = pipeline(
         &ctx,
-        "visible tiles",
-        &module,
-        ("vs_tile", "fs_tile"),
-        &[
-            Some(wgpu::VertexBufferLayout {
-                array_stride: 12,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-            }),
-            Some(wgpu::VertexBufferLayout {
-                array_stride: 8,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![1 => Float32x2],
-            }),
-            Some(wgpu::VertexBufferLayout {
-                array_stride: 4,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![2 => Uint32],
-            }),
-        ],
-        (&[], &[]),
-        Some(TILE_FORMAT.into()),
+        &PipelineRequest {
+            buffers: &buffers,
+            target: Some(TILE_FORMAT.into()),
+            ..PipelineRequest::new("visible tiles", &module, ("vs_tile", "fs_tile"))
+        },
     );
     let buffer = |label, contents: &[u8], usage| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

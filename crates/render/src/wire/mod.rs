@@ -118,17 +118,41 @@ pub trait Drawable {
     }
 }
 
-/// Builds a triangle-list render pipeline with the frame's formats, reversed depth,
-/// no culling (two-sided surfaces) and alpha blending.
-pub(crate) fn pipeline(
-    ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    extra_layouts: &[&wgpu::BindGroupLayout],
-) -> wgpu::RenderPipeline {
-    pipeline_with(ctx, label, module, entries, buffers, extra_layouts, &[])
+/// What a triangle-list pipeline is built from beyond the frame's shared layout, so
+/// that one [`pipeline`] serves every technique: start from [`PipelineRequest::new`]
+/// and override what differs.
+pub(crate) struct PipelineRequest<'a> {
+    pub label: &'a str,
+    pub module: &'a wgpu::ShaderModule,
+    /// Vertex and fragment entry points.
+    pub entries: (&'a str, &'a str),
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    /// Bind group layouts after the frame's (group 0).
+    pub extra_layouts: &'a [&'a wgpu::BindGroupLayout],
+    /// Values for the shader's `override` constants.
+    pub constants: &'a [(&'a str, f64)],
+    /// The colour target; the frame's colour with alpha blending unless changed.
+    pub target: Option<wgpu::ColorTargetState>,
+}
+
+impl<'a> PipelineRequest<'a> {
+    /// A pipeline drawing into the frame's colour with alpha blending, with no vertex
+    /// buffers, bind groups or constants of its own.
+    pub fn new(
+        label: &'a str,
+        module: &'a wgpu::ShaderModule,
+        entries: (&'a str, &'a str),
+    ) -> Self {
+        PipelineRequest {
+            label,
+            module,
+            entries,
+            buffers: &[],
+            extra_layouts: &[],
+            constants: &[],
+            target: frame_target(Some(wgpu::BlendState::ALPHA_BLENDING)),
+        }
+    }
 }
 
 /// [`pipeline`] once per coverage form (texture, analytic) and with or without
@@ -137,25 +161,20 @@ pub(crate) fn pipeline(
 /// rasterizers pay for untaken uniform branches); pick one with [`texture_variant`].
 pub(crate) fn texture_pipelines(
     ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    extra_layouts: &[&wgpu::BindGroupLayout],
+    request: &PipelineRequest,
 ) -> [wgpu::RenderPipeline; 4] {
     [0, 1, 2, 3].map(|variant| {
         let constants = [
             ("COVERAGE_FORM", f64::from(variant % 2)),
             ("EXTRA_LINES", f64::from(variant / 2)),
         ];
-        pipeline_with(
+        pipeline(
             ctx,
-            label,
-            module,
-            entries,
-            buffers,
-            extra_layouts,
-            &constants,
+            &PipelineRequest {
+                constants: &constants,
+                target: request.target.clone(),
+                ..*request
+            },
         )
     })
 }
@@ -182,38 +201,18 @@ pub(crate) fn reversed_depth(write: bool) -> wgpu::DepthStencilState {
     }
 }
 
-/// [`pipeline`] with values for the shader's `override` constants.
-fn pipeline_with(
-    ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    extra_layouts: &[&wgpu::BindGroupLayout],
-    constants: &[(&str, f64)],
-) -> wgpu::RenderPipeline {
-    let target = frame_target(Some(wgpu::BlendState::ALPHA_BLENDING));
-    pipeline_into(
-        ctx,
+/// Builds a triangle-list render pipeline with the frame's formats, reversed depth,
+/// no culling (two-sided surfaces) and what `request` asks.
+pub(crate) fn pipeline(ctx: &PipelineContext, request: &PipelineRequest) -> wgpu::RenderPipeline {
+    let PipelineRequest {
         label,
         module,
-        entries,
+        entries: (vs, fs),
         buffers,
-        (extra_layouts, constants),
-        target,
-    )
-}
-
-/// [`pipeline_with`] drawing into `target` instead of the frame's colour.
-pub(crate) fn pipeline_into(
-    ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    (vs, fs): (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    (extra_layouts, constants): (&[&wgpu::BindGroupLayout], &[(&str, f64)]),
-    target: Option<wgpu::ColorTargetState>,
-) -> wgpu::RenderPipeline {
+        extra_layouts,
+        constants,
+        ref target,
+    } = *request;
     let options = wgpu::PipelineCompilationOptions {
         constants,
         ..Default::default()
@@ -246,7 +245,7 @@ pub(crate) fn pipeline_into(
             module,
             entry_point: Some(fs),
             compilation_options: options,
-            targets: &[target],
+            targets: std::slice::from_ref(target),
         }),
         multiview_mask: None,
         cache: None,

@@ -14,8 +14,8 @@ use wgpu::util::DeviceExt;
 use super::labels::{Labelling, label_vertices};
 use super::lines::{PulledMesh, check_mesh, storage, storage_layout};
 use super::{
-    Drawable, FrameTargets, PipelineContext, Technique, WireMode, texture_pipelines,
-    texture_shader, texture_variant,
+    Drawable, FrameTargets, PipelineContext, PipelineRequest, Technique, WireMode,
+    texture_pipelines, texture_shader, texture_variant,
 };
 use crate::{Error, Gpu, Result};
 
@@ -76,7 +76,12 @@ impl VertexTechnique {
             WireMode::Tex => (("vs_tex3", "fs_tex3"), tex3_layout),
             _ => (("vs_uv", "fs_uv"), uv_layout),
         };
-        let pipelines = texture_pipelines(ctx, mode.name(), &module, entries, &[Some(layout)], &[]);
+        let buffers = [Some(layout)];
+        let request = PipelineRequest {
+            buffers: &buffers,
+            ..PipelineRequest::new(mode.name(), &module, entries)
+        };
+        let pipelines = texture_pipelines(ctx, &request);
         VertexTechnique { mode, pipelines }
     }
 }
@@ -305,14 +310,11 @@ impl PulledTechnique {
             wgpu::ShaderStages::VERTEX,
         );
         let module = texture_shader(device);
-        let pipelines = texture_pipelines(
-            ctx,
-            "texgs",
-            &module,
-            ("vs_texgs", "fs_tex3"),
-            &[],
-            &[&layout],
-        );
+        let request = PipelineRequest {
+            extra_layouts: &[&layout],
+            ..PipelineRequest::new("texgs", &module, ("vs_texgs", "fs_tex3"))
+        };
+        let pipelines = texture_pipelines(ctx, &request);
         PulledTechnique { pipelines, layout }
     }
 }
@@ -597,14 +599,12 @@ impl CellTechnique {
             (false, true) => "fs_uv_cells",
             (false, false) => "fs_uv_cells_bare",
         };
-        let pipelines = texture_pipelines(
-            ctx,
-            cells_label(mask),
-            &module,
-            ("vs_uv_cover", fragment),
-            &buffers,
-            &[&layout],
-        );
+        let request = PipelineRequest {
+            buffers: &buffers,
+            extra_layouts: &[&layout],
+            ..PipelineRequest::new(cells_label(mask), &module, ("vs_uv_cover", fragment))
+        };
+        let pipelines = texture_pipelines(ctx, &request);
         CellTechnique {
             mask,
             pipelines,
