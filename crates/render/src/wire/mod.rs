@@ -3,6 +3,7 @@
 //! renderer, the command line, the tests and the benchmarks iterate over.
 
 mod bias;
+mod cells;
 mod distance;
 mod idbuffer;
 pub mod labels;
@@ -12,12 +13,12 @@ mod registry;
 mod texture;
 mod wire_texture;
 
+pub(crate) use cells::CellTechnique;
+pub use cells::{CellDraw, Stacking, TiledCells, stack_pushes};
 pub(crate) use lines::chunks;
 pub use registry::{
     CellBytes, Family, Needs, Registration, TECHNIQUES, WireMode, create, wire_mode_names,
 };
-pub(crate) use texture::CellTechnique;
-pub use texture::{CellDraw, Stacking, TiledCells, stack_pushes};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;
