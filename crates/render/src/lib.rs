@@ -23,7 +23,8 @@ pub use gridlines::GridLines;
 /// The image crate of the public API (frames are `image::RgbaImage`).
 pub use image;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
-pub use renderer::{Renderer, SHARE_SIZE, SHARE_VIEWS, Sampling, View};
+pub use renderer::sampling::{SHARE_SIZE, SHARE_VIEWS, Sampling};
+pub use renderer::{Renderer, View};
 pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color};
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).
