@@ -697,13 +697,13 @@ mod tests {
         mesh
     }
 
-    #[test]
-    fn a_cover_cut_into_batches_draws_as_one_texture() {
+    /// The blocks, their cover, its cell values, and the corner values of a field other
+    /// than the vertex scalars (so that isolines go through the batches too).
+    fn covered_blocks() -> (SurfaceMesh, CellCover, Vec<f32>, Vec<f32>) {
         let mesh = blocks();
         let cover = CellCover::of(&mesh).expect("cell faces");
         assert_eq!(cover.pieces.len(), 9);
         let values = cover.values(&mesh).expect("values");
-        // Isolines of a field other than the vertex scalars, through the batches too.
         let field = SurfaceMesh {
             scalars: mesh
                 .positions
@@ -713,19 +713,77 @@ mod tests {
             ..mesh.clone()
         };
         let corners = cover.corner_values(&field).expect("corner values");
-        // Header, bits, and the values and the corners, each with a one-tile table.
-        let piece_words = COVER_HEADER + cover.pieces[0].bits.len() + 1 + 36 + 1 + 4 * 36;
-        let mut r = test_renderer();
-        let technique = CellTechnique::new(&r.context(), false, true);
-        let draw = |values, corners| CellDraw {
+        (mesh, cover, values, corners)
+    }
+
+    /// Words of one block's piece: header, bits, and the values and the corners, each
+    /// with a one-tile table.
+    fn piece_words(cover: &CellCover) -> usize {
+        COVER_HEADER + cover.pieces[0].bits.len() + 1 + 36 + 1 + 4 * 36
+    }
+
+    /// A cell draw of the blocks' `cover`, with its grid lines and no mask.
+    fn cells_of<'a>(
+        cover: &'a CellCover,
+        values: Option<TiledCells<'a>>,
+        corners: Option<TiledCells<'a>>,
+    ) -> CellDraw<'a> {
+        CellDraw {
             pieces: &cover.vertex_piece,
-            cover: &cover,
+            cover,
             values,
             corners,
             mask: false,
             wire: true,
             stacking: None,
-        };
+        }
+    }
+
+    /// Side of the tiles the blocks' values are cut into: four per 6 x 6 block, clipped.
+    const SIDE: u32 = 4;
+
+    /// The values of `field` (`per_cell` a cell, box after box) for the tiles of side
+    /// [`SIDE`] that `marks` marks, tile after tile.
+    fn tile_values(cover: &CellCover, marks: &[bool], field: &[f32], per_cell: usize) -> Vec<f32> {
+        let tiles = (0..cover.pieces.len())
+            .flat_map(|p| (0..cover.pieces[p].tile_count(SIDE)).map(move |t| (p, t)));
+        tiles
+            .zip(marks)
+            .filter(|(_, m)| **m)
+            .flat_map(|((p, t), _)| {
+                let piece = &cover.pieces[p];
+                let first: usize = cover.pieces[..p].iter().map(CoverPiece::box_cells).sum();
+                let [x0, y0, x1, y1] = piece.tile_box(SIDE, t);
+                (y0..y1)
+                    .flat_map(move |y| {
+                        (x0..x1).map(move |x| first + (y * piece.size[0] + x) as usize)
+                    })
+                    .flat_map(|c| field[per_cell * c..per_cell * (c + 1)].to_vec())
+            })
+            .collect()
+    }
+
+    /// Values in tiles of side [`SIDE`], those `of` marks (all without it).
+    fn tiled<'a>(values: &'a [f32], of: Option<&'a [bool]>) -> TiledCells<'a> {
+        TiledCells {
+            values,
+            tile: SIDE,
+            of,
+        }
+    }
+
+    /// Every other tile of the blocks' 36.
+    fn every_other_tile() -> Vec<bool> {
+        (0..36).map(|t| t % 2 == 0).collect()
+    }
+
+    #[test]
+    fn a_cover_cut_into_batches_draws_as_one_texture() {
+        let (mesh, cover, values, corners) = covered_blocks();
+        let piece_words = piece_words(&cover);
+        let mut r = test_renderer();
+        let technique = CellTechnique::new(&r.context(), false, true);
+        let draw = |values, corners| cells_of(&cover, values, corners);
         let (lo, hi) = mesh.bounds().expect("bounds");
         let view = View {
             camera: Camera::fit_points(
@@ -763,40 +821,15 @@ mod tests {
         );
         let (one, whole) = frame(all, 1 << 20, &with_isolines);
         let (nine, batched) = frame(all, 1 + piece_words, &with_isolines);
-        // The same values in tiles of 4 x 4 cells (four per 6 x 6 block, clipped), all
-        // of them or every other one: the fragments in the others follow the vertex
-        // scalars, and batches still cut the values where the tiles have them.
-        let side = 4;
-        let tile_values = |p: usize, t: usize, field: &[f32], per_cell: usize| {
-            let piece = &cover.pieces[p];
-            let first: usize = cover.pieces[..p].iter().map(CoverPiece::box_cells).sum();
-            let [x0, y0, x1, y1] = piece.tile_box(side, t);
-            (y0..y1)
-                .flat_map(|y| (x0..x1).map(move |x| first + (y * piece.size[0] + x) as usize))
-                .flat_map(|c| field[per_cell * c..per_cell * (c + 1)].to_vec())
-                .collect::<Vec<f32>>()
-        };
-        let tiles: Vec<(usize, usize)> = (0..cover.pieces.len())
-            .flat_map(|p| (0..cover.pieces[p].tile_count(side)).map(move |t| (p, t)))
-            .collect();
-        assert_eq!(tiles.len(), 36);
-        let marked: Vec<bool> = (0..tiles.len()).map(|t| t % 2 == 0).collect();
-        let every = vec![true; tiles.len()];
-        let pick = |marks: &[bool], field: &[f32], per_cell: usize| -> Vec<f32> {
-            tiles
-                .iter()
-                .zip(marks)
-                .filter(|(_, m)| **m)
-                .flat_map(|(&(p, t), _)| tile_values(p, t, field, per_cell))
-                .collect()
-        };
-        let (every_value, every_corner) = (pick(&every, &values, 1), pick(&every, &corners, 4));
-        let (some_values, some_corners) = (pick(&marked, &values, 1), pick(&marked, &corners, 4));
-        let tiled = |values, of| TiledCells {
-            values,
-            tile: side,
-            of,
-        };
+        // The same values in tiles, all of them or every other one: the fragments in
+        // the others follow the vertex scalars, and batches still cut the values where
+        // the tiles have them.
+        let marked = every_other_tile();
+        let every = vec![true; 36];
+        let every_value = tile_values(&cover, &every, &values, 1);
+        let every_corner = tile_values(&cover, &every, &corners, 4);
+        let some_values = tile_values(&cover, &marked, &values, 1);
+        let some_corners = tile_values(&cover, &marked, &corners, 4);
         let (_, tiled_whole) = frame(
             draw(
                 Some(tiled(&every_value, None)),
@@ -852,27 +885,45 @@ mod tests {
             differing(&no_isolines, &interpolated) > 240 * 240 / 10,
             "the cells' values colour the frame"
         );
+    }
+
+    #[test]
+    fn a_cover_plan_refuses_what_does_not_fit_the_cover_or_a_texture() {
+        let (mesh, cover, values, corners) = covered_blocks();
+        let all = cells_of(
+            &cover,
+            Some(TiledCells::boxes(&values)),
+            Some(TiledCells::boxes(&corners)),
+        );
         assert!(
-            CoverPlan::new(&mesh, &all, piece_words).is_err(),
+            CoverPlan::new(&mesh, &all, piece_words(&cover)).is_err(),
             "a piece larger than a texture is refused"
         );
-        let refused = |cells: CellDraw, why: &str| {
+        let marked = every_other_tile();
+        let some_corners = tile_values(&cover, &marked, &corners, 4);
+        let every_value = tile_values(&cover, &[true; 36], &values, 1);
+        let refused = |values, corners, why: &str| {
+            let cells = cells_of(&cover, values, corners);
             assert!(CoverPlan::new(&mesh, &cells, 1 << 20).is_err(), "{why}");
         };
         refused(
-            draw(None, Some(TiledCells::boxes(&corners[4..]))),
+            None,
+            Some(TiledCells::boxes(&corners[4..])),
             "corner values of another cover",
         );
         refused(
-            draw(Some(TiledCells::boxes(&values[1..])), None),
+            Some(TiledCells::boxes(&values[1..])),
+            None,
             "cell values of another cover",
         );
         refused(
-            draw(None, Some(tiled(&some_corners, Some(&marked[1..])))),
+            None,
+            Some(tiled(&some_corners, Some(&marked[1..]))),
             "marks for another number of tiles",
         );
         refused(
-            draw(Some(tiled(&every_value[1..], None)), None),
+            Some(tiled(&every_value[1..], None)),
+            None,
             "too few cell values for the tiles",
         );
     }
