@@ -2,6 +2,8 @@
 //! (Celes & Abraham) and the techniques they are measured against (DESIGN.md
 //! section 3). Headless by default; frames come back as RGBA pixels and PNG files.
 
+#![warn(missing_docs)]
+
 mod camera;
 pub mod contour;
 mod error;

@@ -21,9 +21,13 @@ use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Style};
 /// frame) from which the depth range is fitted.
 #[derive(Clone, Copy, Debug)]
 pub struct View {
+    /// Where the frame looks from.
     pub camera: Camera,
+    /// Frame width in pixels.
     pub width: u32,
+    /// Frame height in pixels.
     pub height: u32,
+    /// The scene's bounds (unscaled display frame), from which the depth range is fitted.
     pub bounds: (Vec3, Vec3),
 }
 
@@ -112,6 +116,7 @@ struct Targets {
 
 /// Draws prepared meshes into offscreen frames.
 pub struct Renderer {
+    /// The device, for callers that prepare their own drawables.
     pub gpu: Gpu,
     frame_layout: wgpu::BindGroupLayout,
     uniforms: wgpu::Buffer,
@@ -159,6 +164,7 @@ fn validated<T>(gpu: &Gpu, f: impl FnOnce() -> Result<T>) -> Result<T> {
 }
 
 impl Renderer {
+    /// Sets up the shared frame state on `gpu`; techniques are built on first use.
     pub fn new(gpu: Gpu) -> Result<Self> {
         let device = &gpu.device;
         let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

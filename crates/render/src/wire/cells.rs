@@ -145,6 +145,7 @@ pub fn stack_pushes(vertical_errors: &[f32]) -> Vec<f32> {
 /// [`CellDraw`]). A view that shows a few tiles of a large piece needs only theirs.
 #[derive(Clone, Copy, Debug)]
 pub struct TiledCells<'a> {
+    /// The values, laid out as the type's description says.
     pub values: &'a [f32],
     /// Side of the tiles in cells; `u32::MAX` for one tile per box.
     pub tile: u32,

@@ -28,12 +28,15 @@ use crate::{Coverage, Gpu, HiddenLines, Result, Style};
 /// What every pipeline of a frame shares: the device, the frame bind group layout
 /// (uniforms, wireframe texture, colour map) and the target formats.
 pub struct PipelineContext<'a> {
+    /// The device pipelines are built on.
     pub gpu: &'a Gpu,
+    /// The frame bind group's layout (group 0 of every pipeline).
     pub frame_layout: &'a wgpu::BindGroupLayout,
 }
 
-/// Colour and depth formats of every frame.
+/// Colour format of every frame: what pipelines drawing into it must declare.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Depth format of every frame: what pipelines testing against it must declare.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The frame's colour target with `blend`.
@@ -47,10 +50,15 @@ pub(crate) fn frame_target(blend: Option<wgpu::BlendState>) -> Option<wgpu::Colo
 
 /// The targets and shared bindings of the frame being drawn.
 pub struct FrameTargets<'a> {
+    /// The colour target.
     pub color: &'a wgpu::TextureView,
+    /// The depth target, reversed (near is 1).
     pub depth: &'a wgpu::TextureView,
+    /// Uniforms, wireframe texture and colour map (group 0).
     pub frame_bind_group: &'a wgpu::BindGroup,
+    /// Frame width in pixels.
     pub width: u32,
+    /// Frame height in pixels.
     pub height: u32,
     /// The frame's style, for techniques whose passes depend on it (hidden lines).
     pub style: &'a Style,
@@ -92,6 +100,7 @@ impl FrameTargets<'_> {
 /// A wireframe technique: turns a mesh into what it draws. `Send`, so that a
 /// [`Renderer`](crate::Renderer) holding its techniques can move between threads.
 pub trait Technique: Send {
+    /// Which technique this is, so a renderer can key its techniques by mode.
     fn mode(&self) -> WireMode;
     /// Uploads `mesh` in this technique's form (retained mode). Fails when the mesh
     /// lacks what the technique needs (e.g. cell faces for `quad`).
