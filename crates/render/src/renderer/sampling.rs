@@ -9,6 +9,7 @@ use strata_lod::CellCover;
 
 use super::{Renderer, View, validated};
 use crate::camera::in_box;
+use crate::visibility::{self, SampleFrame};
 use crate::{Framing, Result, Style};
 
 /// Directions (azimuth, elevation in degrees) from which
@@ -57,13 +58,7 @@ impl Renderer {
     ) -> Result<Vec<bool>> {
         self.set_frame(view, style)?;
         validated(&self.gpu, || {
-            crate::visibility::visible_tiles(
-                &self.gpu,
-                &self.frame_layout,
-                &self.bind_group,
-                (mesh, cover, tile),
-                (view.width, view.height),
-            )
+            visibility::visible_tiles(&self.sample_frame(view), mesh, (cover, tile))
         })
     }
 
@@ -141,12 +136,7 @@ impl Renderer {
             Sampling::Cpu => SHARE_VIEWS
                 .par_iter()
                 .map(|&direction| {
-                    crate::visibility::pixels_on_cpu(
-                        surfaces,
-                        &shifts,
-                        framed,
-                        &view_from(direction),
-                    )
+                    visibility::pixels_on_cpu(surfaces, &shifts, framed, &view_from(direction))
                 })
                 .collect(),
             Sampling::Adapter => {
@@ -171,15 +161,9 @@ impl Renderer {
                     let view = &view_from(direction);
                     self.set_frame(view, &Style::default())?;
                     let pixels = validated(&self.gpu, || {
-                        crate::visibility::visible_pixels(
-                            &self.gpu,
-                            &self.frame_layout,
-                            &self.bind_group,
-                            (&all, &groups, count),
-                            (view.width, view.height),
-                        )
+                        visibility::visible_pixels(&self.sample_frame(view), (&all, &groups, count))
                     })?;
-                    let area = crate::visibility::projected_pixels((&all, &groups, count), view);
+                    let area = visibility::projected_pixels((&all, &groups, count), view);
                     per_view.push((pixels, area));
                 }
                 per_view
@@ -203,5 +187,17 @@ impl Renderer {
                 }
             })
             .collect())
+    }
+
+    /// The frame last set up for `view` ([`Renderer::set_frame`]), as the visibility
+    /// passes draw it.
+    fn sample_frame(&self, view: &View) -> SampleFrame<'_> {
+        SampleFrame {
+            gpu: &self.gpu,
+            layout: &self.frame_layout,
+            bind_group: &self.bind_group,
+            width: view.width,
+            height: view.height,
+        }
     }
 }
