@@ -82,6 +82,7 @@ pub struct Registration {
     pub create: fn(&PipelineContext) -> Box<dyn Technique>,
 }
 
+/// The edge techniques' peak, the same with isolines, which they do not draw.
 const EDGE_BYTES: CellBytes = CellBytes {
     plain: 1400.0,
     with_isolines: 1400.0,
