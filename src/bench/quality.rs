@@ -27,6 +27,7 @@ use strata_grid::SurfaceMesh;
 use strata_render::glam::Vec3;
 use strata_render::image;
 use strata_render::wire::reference::{CoverageImage, line_coverage};
+use strata_render::wire::{Family, Needs};
 use strata_render::{Camera, Coverage, Renderer, Style, View, WireMode};
 
 use super::meshes;
@@ -167,15 +168,13 @@ fn views() -> Result<Vec<QualityView>> {
 
 /// The techniques measured on a view: name, mode and coverage form.
 fn techniques(global: bool) -> Vec<(String, WireMode, Coverage)> {
-    let mut out: Vec<(String, WireMode, Coverage)> =
-        [WireMode::Bias, WireMode::Dist, WireMode::IdBuffer]
-            .into_iter()
-            .map(|m| (m.name().to_string(), m, Coverage::Texture))
-            .collect();
-    let mut texture = vec![WireMode::Tex, WireMode::TexGs];
-    if global {
-        texture.extend([WireMode::Global, WireMode::Quad]);
-    }
+    let mut out: Vec<(String, WireMode, Coverage)> = WireMode::of_family(Family::Edges)
+        .map(|m| (m.name().to_string(), m, Coverage::Texture))
+        .collect();
+    let mut texture: Vec<WireMode> = WireMode::of_family(Family::Texture)
+        .filter(|&m| m != WireMode::None && (global || m.needs() == Needs::Triangles))
+        .collect();
+    texture.sort_by_key(|m| m.needs());
     for m in texture {
         out.push((m.name().to_string(), m, Coverage::Texture));
         out.push((format!("{}-analytic", m.name()), m, Coverage::Analytic));
@@ -358,6 +357,28 @@ pub fn print_table(report: &QualityReport) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn edge_techniques_come_first_then_those_any_mesh_carries() {
+        let names = |global| -> Vec<String> {
+            techniques(global)
+                .into_iter()
+                .map(|(name, _, _)| name)
+                .collect()
+        };
+        let plain = [
+            "bias",
+            "dist",
+            "idbuffer",
+            "tex",
+            "tex-analytic",
+            "texgs",
+            "texgs-analytic",
+        ];
+        assert_eq!(names(false), plain);
+        let global = ["global", "global-analytic", "quad", "quad-analytic"];
+        assert_eq!(names(true), [&plain[..], &global[..]].concat());
+    }
 
     #[test]
     fn compare_counts_gaps_and_extras() {

@@ -23,7 +23,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use serde::Serialize;
 use strata_render::glam::Vec3;
-use strata_render::wire::Drawable;
+use strata_render::wire::{Drawable, Family, Needs};
 use strata_render::{Camera, Coverage, FrameTimer, Renderer, Style, View, WireMode};
 
 use super::meshes::{self, Kind};
@@ -66,12 +66,9 @@ struct Variant {
 
 impl Variant {
     fn name(self) -> String {
-        match (self.mode, self.coverage) {
-            (
-                WireMode::None | WireMode::Tex | WireMode::TexGs | WireMode::Global,
-                Coverage::Analytic,
-            ) => format!("{}-analytic", self.mode.name()),
-            (m, _) => m.name().to_string(),
+        match (self.mode.family(), self.coverage) {
+            (Family::Texture, Coverage::Analytic) => format!("{}-analytic", self.mode.name()),
+            _ => self.mode.name().to_string(),
         }
     }
 }
@@ -79,7 +76,8 @@ impl Variant {
 /// The modes timed on a mesh of `kind`: `none` in both coverage forms first (the
 /// shaded-only pipeline carries the texture techniques' disabled isoline and grid-line
 /// code, which costs the CPU rasterizers more in the texture form; see common.wgsl),
-/// then the edge techniques, then the texture ones in both forms.
+/// then the edge techniques, then the texture ones the mesh carries coordinates for
+/// (`quad`'s cell faces aside) in both forms, those any mesh can draw first.
 fn variants(kind: Kind) -> Vec<Variant> {
     let plain = |mode| Variant {
         mode,
@@ -92,11 +90,14 @@ fn variants(kind: Kind) -> Vec<Variant> {
             coverage: Coverage::Analytic,
         },
     ];
-    out.extend([WireMode::Bias, WireMode::Dist, WireMode::IdBuffer].map(plain));
-    let mut texture = vec![WireMode::Tex, WireMode::TexGs];
-    if kind.has_global() {
-        texture.push(WireMode::Global);
-    }
+    out.extend(WireMode::of_family(Family::Edges).map(plain));
+    let timed = |mode: &WireMode| match mode.needs() {
+        Needs::Triangles => *mode != WireMode::None,
+        Needs::GlobalCoordinates => kind.has_global(),
+        Needs::CellFaces => false,
+    };
+    let mut texture: Vec<WireMode> = WireMode::of_family(Family::Texture).filter(timed).collect();
+    texture.sort_by_key(|m| m.needs());
     for mode in texture {
         for coverage in [Coverage::Texture, Coverage::Analytic] {
             out.push(Variant { mode, coverage });
@@ -368,6 +369,21 @@ mod tests {
         assert!(has(Kind::Terrain) && has(Kind::Reservoir));
         assert_eq!(variants(Kind::Sphere)[0].name(), "none");
         assert_eq!(variants(Kind::Sphere)[1].name(), "none-analytic");
+        let names: Vec<String> = variants(Kind::Reservoir).iter().map(|v| v.name()).collect();
+        let expected = [
+            "none",
+            "none-analytic",
+            "bias",
+            "dist",
+            "idbuffer",
+            "tex",
+            "tex-analytic",
+            "texgs",
+            "texgs-analytic",
+            "global",
+            "global-analytic",
+        ];
+        assert_eq!(names, expected);
     }
 
     #[test]

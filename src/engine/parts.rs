@@ -43,7 +43,7 @@ impl Parts {
         let largest = parts.iter().map(|p| p.cells(grid)).max().unwrap_or(0);
         let wire = scene.wire.technique;
         check_memory(
-            largest as f64 * bytes_per_cell(wire, scene.isolines.is_some()),
+            largest as f64 * wire.bytes_per_cell(scene.isolines.is_some()),
             &format!("the {largest} active cells of the largest part"),
             "to draw (lower --part-cells)",
         )?;
@@ -229,17 +229,5 @@ impl Parts {
             self.extent = Some((key, extent));
         }
         Ok(())
-    }
-}
-
-/// Bytes a scene holds per active cell of a part at its peak, painted per cell: the
-/// surfaces, their GPU buffers and the rasterizer's copies (measured, rounded up; see
-/// docs/performance.md).
-fn bytes_per_cell(wire: WireMode, iso: bool) -> f64 {
-    match wire {
-        WireMode::Tex => 1600.0,
-        WireMode::Bias | WireMode::Dist | WireMode::IdBuffer => 1400.0,
-        _ if iso => 1200.0,
-        _ => 850.0,
     }
 }

@@ -11,8 +11,11 @@ use glam::{Mat4, Vec3};
 /// A perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// Where the eye is, in the scaled display frame.
     pub eye: Vec3,
+    /// The point looked at, centred in the frame.
     pub target: Vec3,
+    /// Which way is up on screen.
     pub up: Vec3,
     /// Vertical field of view, degrees.
     pub fov_y_deg: f32,
@@ -114,6 +117,7 @@ impl Camera {
         Mat4::from_scale(Vec3::new(1.0, 1.0, self.z_scale))
     }
 
+    /// World to eye space, for the frame uniforms.
     pub fn view(&self) -> Mat4 {
         glam::camera::rh::view::look_at_mat4(self.eye, self.target, self.up)
     }

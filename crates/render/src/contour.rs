@@ -16,7 +16,9 @@ use crate::{Error, Gpu, Isolines, Result};
 /// One contour line: points in the mesh's display frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Polyline {
+    /// The field value this line follows.
     pub level: f32,
+    /// The line's points in order.
     pub points: Vec<[f32; 3]>,
     /// The last point joins the first.
     pub closed: bool,
@@ -142,6 +144,7 @@ pub struct ContourTechnique {
 }
 
 impl ContourTechnique {
+    /// Builds the line pipeline once, for every mesh drawn with it.
     pub fn new(ctx: &PipelineContext) -> Self {
         let device = &ctx.gpu.device;
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {

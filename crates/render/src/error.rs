@@ -16,7 +16,12 @@ pub enum Error {
     Unsuitable(String),
     /// The adapter refused to create a device with what strata needs.
     #[error("the adapter {adapter} refused a device: {message}")]
-    Device { adapter: String, message: String },
+    Device {
+        /// The adapter's name.
+        adapter: String,
+        /// What wgpu said.
+        message: String,
+    },
     /// The GPU reported an error while executing our commands.
     #[error("GPU error: {0}")]
     Gpu(String),
@@ -26,7 +31,9 @@ pub enum Error {
     /// Writing the image failed.
     #[error("{path}: {message}", path = .path.display())]
     Output {
+        /// The file that was being written.
         path: std::path::PathBuf,
+        /// Why it failed.
         message: String,
     },
 }

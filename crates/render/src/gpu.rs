@@ -7,11 +7,15 @@ use crate::{Error, Result};
 
 /// An open device and what it can do.
 pub struct Gpu {
+    /// Creates every buffer, texture and pipeline.
     pub device: wgpu::Device,
+    /// Takes uploads and command buffers.
     pub queue: wgpu::Queue,
+    /// Which adapter and backend draw, for reports and for choosing CPU paths.
     pub info: wgpu::AdapterInfo,
     /// The optional features strata asked for and got.
     pub features: wgpu::Features,
+    /// The adapter's limits strata sizes its buffers and textures by.
     pub limits: wgpu::Limits,
 }
 

@@ -48,7 +48,7 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
-use crate::wire::{Drawable, FrameTargets, PipelineContext, chunks, pipeline};
+use crate::wire::{Drawable, FrameTargets, PipelineContext, PipelineRequest, chunks, pipeline};
 use crate::{Error, Gpu, Result};
 
 /// The value written for an undefined scalar (see `UNDEFINED_SCALAR` in common.wgsl).
@@ -117,6 +117,7 @@ pub enum RangeAdjust {
 }
 
 impl RangeAdjust {
+    /// Every adjust with its command-line name.
     pub const ALL: [(&'static str, RangeAdjust); 4] = [
         ("off", RangeAdjust::Off),
         ("on", RangeAdjust::On),
@@ -124,6 +125,7 @@ impl RangeAdjust {
         ("paper2011", RangeAdjust::Paper2011),
     ];
 
+    /// The adjust named `name`, ignoring case.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL
             .iter()
@@ -144,6 +146,7 @@ impl RangeAdjust {
 /// How a mesh is drawn by the isoline technique.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct IsolineOptions {
+    /// How the per-triangle range adjust keeps isolines thin where the field is flat.
     pub adjust: RangeAdjust,
     /// Also draw the wireframe of the global coordinates (cell edges of layers).
     pub wire: bool,
@@ -254,19 +257,17 @@ impl IsolineTechnique {
         ];
         let draw_wire = pipeline(
             ctx,
-            "isolines + wire",
-            &module,
-            ("vs_iso", "fs_iso_wire"),
-            &buffers,
-            &[],
+            &PipelineRequest {
+                buffers: &buffers,
+                ..PipelineRequest::new("isolines + wire", &module, ("vs_iso", "fs_iso_wire"))
+            },
         );
         let draw_plain = pipeline(
             ctx,
-            "isolines",
-            &module,
-            ("vs_iso", "fs_iso"),
-            &buffers,
-            &[],
+            &PipelineRequest {
+                buffers: &buffers,
+                ..PipelineRequest::new("isolines", &module, ("vs_iso", "fs_iso"))
+            },
         );
         IsolineTechnique {
             adjust,

@@ -2,6 +2,8 @@
 //! (Celes & Abraham) and the techniques they are measured against (DESIGN.md
 //! section 3). Headless by default; frames come back as RGBA pixels and PNG files.
 
+#![warn(missing_docs)]
+
 mod camera;
 pub mod contour;
 mod error;
@@ -23,12 +25,15 @@ pub use gridlines::GridLines;
 /// The image crate of the public API (frames are `image::RgbaImage`).
 pub use image;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
-pub use renderer::{Renderer, SHARE_SIZE, SHARE_VIEWS, Sampling, View};
-pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color, wire_mode_names};
+pub use renderer::sampling::{SHARE_SIZE, SHARE_VIEWS, Sampling};
+pub use renderer::{Renderer, View};
+pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color};
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).
 pub use wgpu;
-pub use wire::{Attenuation, CellDraw, Stacking, TiledCells, WireMode, stack_pushes};
+pub use wire::{
+    Attenuation, CellDraw, Stacking, TiledCells, WireMode, stack_pushes, wire_mode_names,
+};
 
 /// Writes pixels as a PNG file.
 pub fn save_png(image: &image::RgbaImage, path: &std::path::Path) -> Result<()> {

@@ -1,6 +1,6 @@
 //! How a frame looks: line style, colours, colour map.
 
-use crate::wire::{Attenuation, WireMode};
+use crate::wire::Attenuation;
 use crate::{GridLines, Isolines};
 
 /// How line coverage is computed in the fragment shader (DESIGN.md section 3): from
@@ -8,7 +8,9 @@ use crate::{GridLines, Isolines};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Coverage {
     #[default]
+    /// Sampled from the mip-mapped wireframe texture: any line profile, and the attenuation table.
     Texture,
+    /// Computed from the coordinate's screen gradient: no texture taps.
     Analytic,
 }
 
@@ -29,6 +31,7 @@ pub enum HiddenLines {
 }
 
 impl HiddenLines {
+    /// Every style with its command-line name (Rossignac & van Emmerik's abbreviations).
     pub const ALL: [(&'static str, HiddenLines); 4] = [
         ("tehs", HiddenLines::Suppressed),
         ("tehd", HiddenLines::Dashed),
@@ -36,6 +39,7 @@ impl HiddenLines {
         ("cehd", HiddenLines::ContoursDashed),
     ];
 
+    /// The style named `name`, ignoring case.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL
             .iter()
@@ -43,6 +47,7 @@ impl HiddenLines {
             .map(|&(_, h)| h)
     }
 
+    /// The command-line name of this style.
     pub fn name(self) -> &'static str {
         Self::ALL
             .iter()
@@ -68,16 +73,24 @@ impl HiddenLines {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Colormap {
     #[default]
+    /// colorous's viridis: perceptually uniform, the default.
     Viridis,
+    /// colorous's turbo.
     Turbo,
+    /// colorous's cividis: readable with colour-vision deficiency.
     Cividis,
+    /// colorous's magma.
     Magma,
+    /// colorous's inferno.
     Inferno,
+    /// colorous's plasma.
     Plasma,
+    /// colorous's spectral (diverging).
     Spectral,
 }
 
 impl Colormap {
+    /// Every colour map with its command-line name.
     pub const ALL: [(&'static str, Colormap); 7] = [
         ("viridis", Colormap::Viridis),
         ("turbo", Colormap::Turbo),
@@ -88,6 +101,7 @@ impl Colormap {
         ("spectral", Colormap::Spectral),
     ];
 
+    /// The colour map named `name`, ignoring case.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL
             .iter()
@@ -120,16 +134,21 @@ impl Colormap {
 pub struct Style {
     /// Line thickness in pixels (σ).
     pub thickness: f32,
+    /// Line colour, linear RGBA.
     pub wire_color: [f32; 4],
+    /// How lines fade with distance from the eye.
     pub attenuation: Attenuation,
+    /// Whether line coverage comes from the texture or is computed.
     pub coverage: Coverage,
     /// Lines alone, in the primitive's colour, instead of over the shaded surface.
     pub isolation: bool,
     /// Surface colour when not coloured by a property.
     pub solid_color: [f32; 4],
+    /// The colour map scalars are drawn with.
     pub colormap: Colormap,
     /// Scalar range mapped onto the colour map; `None` draws the solid colour.
     pub scalar_range: Option<(f32, f32)>,
+    /// Colour behind the surfaces, linear RGBA.
     pub background: [f32; 4],
     /// Largest fraction of a coordinate unit a half line may cover (saturation cap).
     pub cap: f32,
@@ -191,11 +210,6 @@ pub fn parse_color(s: &str) -> Option<[f32; 4]> {
         byte(4)?,
         if hex.len() == 8 { byte(6)? } else { 1.0 },
     ])
-}
-
-/// Names of the wire modes, for command lines and benchmark JSON.
-pub fn wire_mode_names() -> Vec<&'static str> {
-    WireMode::ALL.iter().map(|m| m.name()).collect()
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ use wgpu::util::DeviceExt;
 use crate::camera::in_box;
 use crate::gpu::Gpu;
 use crate::renderer::{View, frame_texture, readback_buffer};
-use crate::wire::{DEPTH_FORMAT, PipelineContext, pipeline_into};
+use crate::wire::{DEPTH_FORMAT, PipelineContext, PipelineRequest, pipeline};
 use crate::{Error, Result};
 
 /// Per pixel: piece + 1 (0 where no surface is), the cell's x and y (i32 bits) and the
@@ -26,6 +26,17 @@ const TILE_TEXEL: usize = 16;
 /// The farthest a pixel's neighbours are taken to reach, in texture space: at grazing
 /// angles the derivatives grow without bound, and the tiles marked stop at the box.
 const MAX_REACH: f32 = 1.0e6;
+
+/// The frame a visibility pass draws, as the renderer set it up for a view: grouped so
+/// that the passes take one frame rather than its five parts.
+pub(crate) struct SampleFrame<'a> {
+    pub gpu: &'a Gpu,
+    pub layout: &'a wgpu::BindGroupLayout,
+    /// The frame uniforms (group 0).
+    pub bind_group: &'a wgpu::BindGroup,
+    pub width: u32,
+    pub height: u32,
+}
 
 const SHADER: &str = r"
 struct TileOut {
@@ -53,16 +64,13 @@ fn fs_tile(in: TileOut) -> @location(0) vec4<u32> {
 ";
 
 /// Per tile of `tile` cells of each piece's box of `cover` (strata-lod's
-/// `CoverPiece::tiles`, row by row, piece after piece), whether a `width` x `height`
-/// frame with the frame uniforms of `frame_bind_group` (laid out by `frame_layout`)
-/// shows `mesh` in it at some pixel centre or takes a derivative there; the cover's
-/// `vertex_piece` gives each vertex's piece.
+/// `CoverPiece::tiles`, row by row, piece after piece), whether `frame` shows `mesh`
+/// in it at some pixel centre or takes a derivative there; the cover's `vertex_piece`
+/// gives each vertex's piece.
 pub(crate) fn visible_tiles(
-    gpu: &Gpu,
-    frame_layout: &wgpu::BindGroupLayout,
-    frame_bind_group: &wgpu::BindGroup,
-    (mesh, cover, tile): (&SurfaceMesh, &CellCover, u32),
-    (width, height): (u32, u32),
+    frame: &SampleFrame,
+    mesh: &SurfaceMesh,
+    (cover, tile): (&CellCover, u32),
 ) -> Result<Vec<bool>> {
     let pieces = &cover.vertex_piece;
     let piece_count = cover.pieces.len();
@@ -94,16 +102,10 @@ pub(crate) fn visible_tiles(
     if mesh.is_empty() {
         return Ok(visible);
     }
-    let texels = id_frame(
-        gpu,
-        frame_layout,
-        frame_bind_group,
-        (mesh, pieces),
-        (width, height),
-    )?;
+    let texels = id_frame(frame, mesh, pieces)?;
     // Neighbouring pixels mostly name the same tiles: each run is marked once.
     let mut last = [0u32; 4];
-    for row in texels.chunks_exact(width as usize) {
+    for row in texels.chunks_exact(frame.width as usize) {
         for &texel @ [id, x, y, reach] in row {
             if id == 0 || texel == last {
                 continue;
@@ -139,13 +141,14 @@ pub(crate) fn visible_tiles(
 /// itself, two-sided), read back row by row as [`TILE_FORMAT`] texels: `ids[v] + 1`
 /// of the triangle's first vertex `v` (0 where no surface is), the cell and the reach
 /// of `fs_tile`.
-fn id_frame(
-    gpu: &Gpu,
-    frame_layout: &wgpu::BindGroupLayout,
-    frame_bind_group: &wgpu::BindGroup,
-    (mesh, ids): (&SurfaceMesh, &[u32]),
-    (width, height): (u32, u32),
-) -> Result<Vec<[u32; 4]>> {
+fn id_frame(frame: &SampleFrame, mesh: &SurfaceMesh, ids: &[u32]) -> Result<Vec<[u32; 4]>> {
+    let SampleFrame {
+        gpu,
+        layout: frame_layout,
+        bind_group: frame_bind_group,
+        width,
+        height,
+    } = *frame;
     let device = &gpu.device;
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("visible tiles"),
@@ -158,30 +161,30 @@ fn id_frame(
         ),
     });
     let ctx = PipelineContext { gpu, frame_layout };
-    let pipeline = pipeline_into(
+    let buffers = [
+        Some(wgpu::VertexBufferLayout {
+            array_stride: 12,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3],
+        }),
+        Some(wgpu::VertexBufferLayout {
+            array_stride: 8,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![1 => Float32x2],
+        }),
+        Some(wgpu::VertexBufferLayout {
+            array_stride: 4,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![2 => Uint32],
+        }),
+    ];
+    let pipeline = pipeline(
         &ctx,
-        "visible tiles",
-        &module,
-        ("vs_tile", "fs_tile"),
-        &[
-            Some(wgpu::VertexBufferLayout {
-                array_stride: 12,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![0 => Float32x3],
-            }),
-            Some(wgpu::VertexBufferLayout {
-                array_stride: 8,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![1 => Float32x2],
-            }),
-            Some(wgpu::VertexBufferLayout {
-                array_stride: 4,
-                step_mode: wgpu::VertexStepMode::Vertex,
-                attributes: &wgpu::vertex_attr_array![2 => Uint32],
-            }),
-        ],
-        (&[], &[]),
-        Some(TILE_FORMAT.into()),
+        &PipelineRequest {
+            buffers: &buffers,
+            target: Some(TILE_FORMAT.into()),
+            ..PipelineRequest::new("visible tiles", &module, ("vs_tile", "fs_tile"))
+        },
     );
     let buffer = |label, contents: &[u8], usage| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -284,26 +287,16 @@ fn id_frame(
 }
 
 /// Per group of `groups` (one per vertex of `mesh`, under `count`), the pixels whose
-/// centre shows it nearest in a `width` x `height` frame with the frame uniforms of
-/// `frame_bind_group` (the mesh hiding itself, two-sided).
+/// centre shows it nearest in `frame` (the mesh hiding itself, two-sided).
 pub(crate) fn visible_pixels(
-    gpu: &Gpu,
-    frame_layout: &wgpu::BindGroupLayout,
-    frame_bind_group: &wgpu::BindGroup,
+    frame: &SampleFrame,
     (mesh, groups, count): (&SurfaceMesh, &[u32], usize),
-    (width, height): (u32, u32),
 ) -> Result<Vec<u64>> {
     let mut pixels = vec![0u64; count];
     if mesh.is_empty() {
         return Ok(pixels);
     }
-    let texels = id_frame(
-        gpu,
-        frame_layout,
-        frame_bind_group,
-        (mesh, groups),
-        (width, height),
-    )?;
+    let texels = id_frame(frame, mesh, groups)?;
     for &[id, ..] in &texels {
         if let Some(n) = (id as usize).checked_sub(1).and_then(|g| pixels.get_mut(g)) {
             *n += 1;

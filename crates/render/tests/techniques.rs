@@ -10,10 +10,10 @@ mod support;
 
 use strata_grid::SurfaceMesh;
 use strata_render::glam::{Vec2, Vec3};
+use strata_render::wire;
 use strata_render::{Camera, Coverage, HiddenLines, Renderer, View, WireMode};
 use support::*;
 
-const MODES: [WireMode; 3] = [WireMode::Bias, WireMode::Dist, WireMode::IdBuffer];
 const SIZE: u32 = 384;
 /// Tolerance of widths and centres (pixels).
 const TOL: f32 = 0.5;
@@ -90,7 +90,7 @@ fn widths_positions_and_no_gaps() {
     for (name, grid, view) in cases() {
         let mesh = grid.mesh();
         let proj = Projector::new(&view);
-        for mode in MODES {
+        for mode in WireMode::of_family(wire::Family::Edges) {
             for sigma in [1.0f32, 2.0, 3.0] {
                 let frame = draw(&mut r, &mesh, mode, &view, sigma, HiddenLines::Suppressed);
                 let scans = measure_grid(&frame, &proj, &grid, sigma, 4);
@@ -156,7 +156,7 @@ fn quad_diagonals_are_never_drawn() {
     for (name, grid, view) in cases() {
         let mesh = grid.mesh();
         let proj = Projector::new(&view);
-        for mode in MODES {
+        for mode in WireMode::of_family(wire::Family::Edges) {
             let frame = draw(&mut r, &mesh, mode, &view, 3.0, HiddenLines::Suppressed);
             let mut worst = 0f32;
             for i in 0..grid.ni {
@@ -252,7 +252,7 @@ fn hidden_line_styles() {
         (HiddenLines::ContoursDashed, [none, dashed, none, full]),
     ];
     let mut failures = Vec::new();
-    for mode in MODES {
+    for mode in WireMode::of_family(wire::Family::Edges) {
         for (hidden, ranges) in expected {
             let frame = draw(&mut r, &mesh, mode, &view, 3.0, hidden);
             for ((group, (a, b), shift), (lo, hi)) in groups.iter().zip(ranges) {
@@ -324,7 +324,7 @@ fn no_artefacts_with_the_eye_among_the_triangles() {
         }
     }
     let sigma = 2.0;
-    for mode in MODES {
+    for mode in WireMode::of_family(wire::Family::Edges) {
         let frame = draw(&mut r, &mesh, mode, &view, sigma, HiddenLines::Suppressed);
         let (mut lit_pixels, mut stray) = (0usize, 0usize);
         for y in 0..SIZE as i64 {
@@ -443,7 +443,7 @@ fn texture_techniques_draw_hidden_lines_suppressed_only() {
                 ..measuring_style(2.0, Coverage::Texture)
             };
             let result = r.render(&[d.as_ref()], &view, &style);
-            let edge_technique = MODES.contains(&mode);
+            let edge_technique = mode.family() == wire::Family::Edges;
             assert_eq!(
                 result.is_ok(),
                 edge_technique || hidden == HiddenLines::Suppressed,

@@ -21,8 +21,11 @@ use std::collections::{HashMap, VecDeque};
 /// and the triangles re-indexed onto the output vertices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Labelling {
+    /// Per output vertex, the input vertex it copies.
     pub source_vertex: Vec<u32>,
+    /// Per output vertex, its label (α, β, γ as 0, 1, 2).
     pub labels: Vec<u8>,
+    /// The input's triangles re-indexed onto the output vertices.
     pub triangles: Vec<[u32; 3]>,
 }
 

@@ -1,101 +1,42 @@
 //! Wireframe techniques. Each family lives in its own module with its WGSL beside it;
-//! they all implement [`Technique`], and [`create`] is the one registration point the
+//! they all implement [`Technique`], and [`TECHNIQUES`] is the one registration table the
 //! renderer, the command line, the tests and the benchmarks iterate over.
 
 mod bias;
+mod cells;
 mod distance;
 mod idbuffer;
 pub mod labels;
 mod lines;
 pub mod reference;
+mod registry;
 mod texture;
 mod wire_texture;
 
+pub(crate) use cells::CellTechnique;
+pub use cells::{CellDraw, Stacking, TiledCells, stack_pushes};
 pub(crate) use lines::chunks;
-pub(crate) use texture::CellTechnique;
-pub use texture::{CellDraw, Stacking, TiledCells, stack_pushes};
+pub use registry::{
+    CellBytes, Family, Needs, Registration, TECHNIQUES, WireMode, create, wire_mode_names,
+};
 pub use wire_texture::{ATTENUATION_LAYERS, Attenuation, WireTextureSpec};
 
 use strata_grid::SurfaceMesh;
 
 use crate::{Coverage, Gpu, HiddenLines, Result, Style};
 
-/// The wireframe techniques.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum WireMode {
-    /// Shaded surface only: the reference every technique is measured against.
-    None,
-    /// Global odd texture coordinates of structured meshes (2i + 1, 2j + 1): draws the
-    /// original grid on any surface that carries them, decimated ones included.
-    Global,
-    /// Per-quad -1 / +1 coordinates (cell faces).
-    Quad,
-    /// Per-vertex α/β/γ labels found by a breadth-first search, duplicating on conflict.
-    Tex,
-    /// Per-triangle coordinates made while pulling vertices (no duplication).
-    TexGs,
-    /// Classic two passes: the fill pushed back by a depth bias, then line primitives
-    /// (screen-space quads for lines wider than a pixel).
-    Bias,
-    /// Bærentzen's single pass: each fragment's window-space distance to its
-    /// triangle's real edges, with Gateau's case for vertices behind the eye.
-    Dist,
-    /// Bærentzen's ID-buffer method: polygon IDs, then line quads kept where the ID
-    /// matches or the depth test passes, then shading.
-    IdBuffer,
-}
-
-impl WireMode {
-    pub const ALL: [WireMode; 8] = [
-        WireMode::None,
-        WireMode::Global,
-        WireMode::Quad,
-        WireMode::Tex,
-        WireMode::TexGs,
-        WireMode::Bias,
-        WireMode::Dist,
-        WireMode::IdBuffer,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            WireMode::None => "none",
-            WireMode::Global => "global",
-            WireMode::Quad => "quad",
-            WireMode::Tex => "tex",
-            WireMode::TexGs => "texgs",
-            WireMode::Bias => "bias",
-            WireMode::Dist => "dist",
-            WireMode::IdBuffer => "idbuffer",
-        }
-    }
-
-    /// Whether the technique's lines are drawn with its polygons, each fragment seeing
-    /// only the depth left before it, so that a scene drawn a part at a time
-    /// ([`crate::Renderer::render_parts`]) looks as drawn at once. Not `bias`, which
-    /// draws every line after every fill (a later part's fill covers the half of a
-    /// line that lay over it), nor `idbuffer`, whose ID buffer holds one drawable's
-    /// polygons.
-    pub fn draws_alone(self) -> bool {
-        !matches!(self, WireMode::Bias | WireMode::IdBuffer)
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL
-            .into_iter()
-            .find(|m| m.name().eq_ignore_ascii_case(name))
-    }
-}
-
 /// What every pipeline of a frame shares: the device, the frame bind group layout
 /// (uniforms, wireframe texture, colour map) and the target formats.
 pub struct PipelineContext<'a> {
+    /// The device pipelines are built on.
     pub gpu: &'a Gpu,
+    /// The frame bind group's layout (group 0 of every pipeline).
     pub frame_layout: &'a wgpu::BindGroupLayout,
 }
 
-/// Colour and depth formats of every frame.
+/// Colour format of every frame: what pipelines drawing into it must declare.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Depth format of every frame: what pipelines testing against it must declare.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// The frame's colour target with `blend`.
@@ -109,10 +50,15 @@ pub(crate) fn frame_target(blend: Option<wgpu::BlendState>) -> Option<wgpu::Colo
 
 /// The targets and shared bindings of the frame being drawn.
 pub struct FrameTargets<'a> {
+    /// The colour target.
     pub color: &'a wgpu::TextureView,
+    /// The depth target, reversed (near is 1).
     pub depth: &'a wgpu::TextureView,
+    /// Uniforms, wireframe texture and colour map (group 0).
     pub frame_bind_group: &'a wgpu::BindGroup,
+    /// Frame width in pixels.
     pub width: u32,
+    /// Frame height in pixels.
     pub height: u32,
     /// The frame's style, for techniques whose passes depend on it (hidden lines).
     pub style: &'a Style,
@@ -154,6 +100,7 @@ impl FrameTargets<'_> {
 /// A wireframe technique: turns a mesh into what it draws. `Send`, so that a
 /// [`Renderer`](crate::Renderer) holding its techniques can move between threads.
 pub trait Technique: Send {
+    /// Which technique this is, so a renderer can key its techniques by mode.
     fn mode(&self) -> WireMode;
     /// Uploads `mesh` in this technique's form (retained mode). Fails when the mesh
     /// lacks what the technique needs (e.g. cell faces for `quad`).
@@ -181,30 +128,41 @@ pub trait Drawable {
     }
 }
 
-/// The registry: the technique of `mode`.
-pub fn create(mode: WireMode, ctx: &PipelineContext) -> Box<dyn Technique> {
-    match mode {
-        WireMode::None | WireMode::Global | WireMode::Quad | WireMode::Tex => {
-            Box::new(texture::VertexTechnique::new(mode, ctx))
-        }
-        WireMode::TexGs => Box::new(texture::PulledTechnique::new(ctx)),
-        WireMode::Bias => Box::new(bias::BiasTechnique::new(ctx)),
-        WireMode::Dist => Box::new(distance::DistTechnique::new(ctx)),
-        WireMode::IdBuffer => Box::new(idbuffer::IdBufferTechnique::new(ctx)),
-    }
+/// What a triangle-list pipeline is built from beyond the frame's shared layout, so
+/// that one [`pipeline`] serves every technique: start from [`PipelineRequest::new`]
+/// and override what differs.
+pub(crate) struct PipelineRequest<'a> {
+    pub label: &'a str,
+    pub module: &'a wgpu::ShaderModule,
+    /// Vertex and fragment entry points.
+    pub entries: (&'a str, &'a str),
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    /// Bind group layouts after the frame's (group 0).
+    pub extra_layouts: &'a [&'a wgpu::BindGroupLayout],
+    /// Values for the shader's `override` constants.
+    pub constants: &'a [(&'a str, f64)],
+    /// The colour target; the frame's colour with alpha blending unless changed.
+    pub target: Option<wgpu::ColorTargetState>,
 }
 
-/// Builds a triangle-list render pipeline with the frame's formats, reversed depth,
-/// no culling (two-sided surfaces) and alpha blending.
-pub(crate) fn pipeline(
-    ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    extra_layouts: &[&wgpu::BindGroupLayout],
-) -> wgpu::RenderPipeline {
-    pipeline_with(ctx, label, module, entries, buffers, extra_layouts, &[])
+impl<'a> PipelineRequest<'a> {
+    /// A pipeline drawing into the frame's colour with alpha blending, with no vertex
+    /// buffers, bind groups or constants of its own.
+    pub fn new(
+        label: &'a str,
+        module: &'a wgpu::ShaderModule,
+        entries: (&'a str, &'a str),
+    ) -> Self {
+        PipelineRequest {
+            label,
+            module,
+            entries,
+            buffers: &[],
+            extra_layouts: &[],
+            constants: &[],
+            target: frame_target(Some(wgpu::BlendState::ALPHA_BLENDING)),
+        }
+    }
 }
 
 /// [`pipeline`] once per coverage form (texture, analytic) and with or without
@@ -213,25 +171,20 @@ pub(crate) fn pipeline(
 /// rasterizers pay for untaken uniform branches); pick one with [`texture_variant`].
 pub(crate) fn texture_pipelines(
     ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    extra_layouts: &[&wgpu::BindGroupLayout],
+    request: &PipelineRequest,
 ) -> [wgpu::RenderPipeline; 4] {
     [0, 1, 2, 3].map(|variant| {
         let constants = [
             ("COVERAGE_FORM", f64::from(variant % 2)),
             ("EXTRA_LINES", f64::from(variant / 2)),
         ];
-        pipeline_with(
+        pipeline(
             ctx,
-            label,
-            module,
-            entries,
-            buffers,
-            extra_layouts,
-            &constants,
+            &PipelineRequest {
+                constants: &constants,
+                target: request.target.clone(),
+                ..*request
+            },
         )
     })
 }
@@ -258,38 +211,18 @@ pub(crate) fn reversed_depth(write: bool) -> wgpu::DepthStencilState {
     }
 }
 
-/// [`pipeline`] with values for the shader's `override` constants.
-fn pipeline_with(
-    ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    entries: (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    extra_layouts: &[&wgpu::BindGroupLayout],
-    constants: &[(&str, f64)],
-) -> wgpu::RenderPipeline {
-    let target = frame_target(Some(wgpu::BlendState::ALPHA_BLENDING));
-    pipeline_into(
-        ctx,
+/// Builds a triangle-list render pipeline with the frame's formats, reversed depth,
+/// no culling (two-sided surfaces) and what `request` asks.
+pub(crate) fn pipeline(ctx: &PipelineContext, request: &PipelineRequest) -> wgpu::RenderPipeline {
+    let PipelineRequest {
         label,
         module,
-        entries,
+        entries: (vs, fs),
         buffers,
-        (extra_layouts, constants),
-        target,
-    )
-}
-
-/// [`pipeline_with`] drawing into `target` instead of the frame's colour.
-pub(crate) fn pipeline_into(
-    ctx: &PipelineContext,
-    label: &str,
-    module: &wgpu::ShaderModule,
-    (vs, fs): (&str, &str),
-    buffers: &[Option<wgpu::VertexBufferLayout>],
-    (extra_layouts, constants): (&[&wgpu::BindGroupLayout], &[(&str, f64)]),
-    target: Option<wgpu::ColorTargetState>,
-) -> wgpu::RenderPipeline {
+        extra_layouts,
+        constants,
+        ref target,
+    } = *request;
     let options = wgpu::PipelineCompilationOptions {
         constants,
         ..Default::default()
@@ -322,7 +255,7 @@ pub(crate) fn pipeline_into(
             module,
             entry_point: Some(fs),
             compilation_options: options,
-            targets: &[target],
+            targets: std::slice::from_ref(target),
         }),
         multiview_mask: None,
         cache: None,

@@ -21,12 +21,16 @@ use crate::{Error, Result, View};
 /// Per-pixel line coverage, rows top to bottom.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CoverageImage {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// Coverage in 0..1 per pixel, row after row.
     pub coverage: Vec<f32>,
 }
 
 impl CoverageImage {
+    /// The coverage at pixel (`x`, `y`).
     pub fn at(&self, x: u32, y: u32) -> f32 {
         self.coverage[(y * self.width + x) as usize]
     }

@@ -20,6 +20,7 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Attenuation {
     #[default]
+    /// Lines keep their intensity and thickness at any depth.
     None,
     /// Lines fade towards the far end of the scene.
     Intensity,
@@ -50,6 +51,7 @@ pub struct WireTextureSpec {
     pub thickness: f32,
     /// Largest fraction of a coordinate unit a half line may cover (1/3 in the paper).
     pub cap: f32,
+    /// How lines fade with depth (the texture's second axis).
     pub attenuation: Attenuation,
 }
 
@@ -74,6 +76,7 @@ impl WireTextureSpec {
         }
     }
 
+    /// Mip levels down to one texel, so that lines stay σ pixels wide at any zoom.
     pub fn mip_levels(&self) -> u32 {
         self.width.max(1).ilog2() + 1
     }
