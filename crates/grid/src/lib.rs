@@ -5,6 +5,8 @@
 //! This crate knows nothing about rendering; everything downstream consumes
 //! [`SurfaceMesh`].
 
+#![warn(missing_docs)]
+
 pub mod eclbin;
 mod error;
 pub mod grdecl;
@@ -86,8 +88,12 @@ pub enum Content {
     EclipseBinary,
     /// A strata level-of-detail hierarchy.
     Hierarchy,
-    /// Other binary data: byte `zero_at` is zero.
-    Binary { zero_at: usize },
+    /// Other binary data.
+    Binary {
+        /// Offset of the first zero byte, which no text deck has: shown in messages
+        /// so the user can check the file.
+        zero_at: usize,
+    },
     /// Text, or empty.
     Text,
 }
