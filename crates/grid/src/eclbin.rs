@@ -73,7 +73,9 @@ pub fn read_restart(grid: &mut CornerPointGrid, path: &Path) -> Result<()> {
 /// `E100_BO.X0001`, ...).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ResultFiles {
+    /// The INIT file (static properties over active cells), when there is one.
     pub init: Option<PathBuf>,
+    /// The unified restart file (every report step in one file), when there is one.
     pub unrst: Option<PathBuf>,
     /// Non-unified restarts `.Xnnnn`, by report number.
     pub restarts: Vec<(i32, PathBuf)>,

@@ -20,8 +20,11 @@ use crate::{Error, Result};
 /// Dimensions of a grid in cells.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Dims {
+    /// Cells along `i` (columns of a row, the fastest index in files).
     pub nx: usize,
+    /// Cells along `j` (rows of a layer).
     pub ny: usize,
+    /// Cells along `k` (layers, counted downward from the top).
     pub nz: usize,
 }
 
@@ -81,9 +84,12 @@ impl Dims {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Units {
+    /// `METRES`, the default when a file names no unit.
     #[default]
     Metres,
+    /// `FEET` (also read from `FT` and `FIELD`).
     Feet,
+    /// `CM` (also read from `CENTIMETRES`).
     Centimetres,
 }
 
@@ -112,8 +118,11 @@ impl Units {
 /// origin and a point on the local x axis, in the order of the keyword.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct MapAxes {
+    /// A point on the local y axis (map x, map y).
     pub y_axis: [f64; 2],
+    /// Where the local origin lies on the map.
     pub origin: [f64; 2],
+    /// A point on the local x axis (map x, map y).
     pub x_axis: [f64; 2],
 }
 
@@ -184,10 +193,19 @@ pub struct ReportStep {
 #[derive(Clone, Debug)]
 pub struct CornerPointGrid {
     dims: Dims,
+    /// Pillars, `[ny + 1, nx + 1, 6]`: top xyz then bottom xyz in local coordinates
+    /// (before [`MapAxes`]), depth positive downward.
     pub coord: Array3<f64>,
+    /// Corner depths, `[2 nz, 2 ny, 2 nx]`, positive downward: a corner's position is
+    /// where its pillar reaches this depth. Neighbours that disagree here are faulted.
     pub zcorn: Array3<f32>,
+    /// Whether each cell takes part in the model, `[nz, ny, nx]`; inactive cells
+    /// leave holes in surfaces, and INIT/restart arrays skip them.
     pub actnum: Array3<bool>,
+    /// How local coordinates map onto the map; `None` when they already are map
+    /// coordinates.
     pub mapaxes: Option<MapAxes>,
+    /// Length unit of COORD and ZCORN.
     pub units: Units,
     /// Per-cell static properties (PORO, PERMX, NTG, ...), keyword upper case.
     pub properties: BTreeMap<String, Array3<f32>>,
@@ -264,18 +282,22 @@ impl CornerPointGrid {
         })
     }
 
+    /// The dimensions the arrays were checked against when the grid was built.
     pub fn dims(&self) -> Dims {
         self.dims
     }
 
+    /// Number of cells, active or not: the length of a GRDECL property.
     pub fn cell_count(&self) -> usize {
         self.dims.cell_count()
     }
 
+    /// Whether cell `(i, j, k)` (0-based) is active; panics outside the grid.
     pub fn is_active(&self, i: usize, j: usize, k: usize) -> bool {
         self.actnum[[k, j, i]]
     }
 
+    /// Number of active cells: the length of an INIT or restart array.
     pub fn active_count(&self) -> usize {
         self.actnum
             .as_slice()
@@ -686,11 +708,15 @@ impl CornerPointGrid {
 /// Axis-aligned box; empty when `min > max`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct BoundingBox {
+    /// Least x, y and z of what was included.
     pub min: [f64; 3],
+    /// Greatest x, y and z of what was included.
     pub max: [f64; 3],
 }
 
 impl BoundingBox {
+    /// The box that includes nothing: the start of a fold with [`Self::include`] or
+    /// [`Self::union`].
     pub fn empty() -> Self {
         BoundingBox {
             min: [f64::INFINITY; 3],
@@ -698,10 +724,12 @@ impl BoundingBox {
         }
     }
 
+    /// Whether nothing has been included.
     pub fn is_empty(&self) -> bool {
         (0..3).any(|a| self.min[a] > self.max[a])
     }
 
+    /// Grows the box to contain `p`.
     pub fn include(&mut self, p: [f64; 3]) {
         for (a, v) in p.into_iter().enumerate() {
             self.min[a] = self.min[a].min(v);
@@ -709,6 +737,7 @@ impl BoundingBox {
         }
     }
 
+    /// The smallest box containing both (an empty box leaves the other unchanged).
     pub fn union(&self, other: &Self) -> Self {
         BoundingBox {
             min: std::array::from_fn(|a| self.min[a].min(other.min[a])),

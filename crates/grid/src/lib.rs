@@ -4,6 +4,54 @@
 //!
 //! This crate knows nothing about rendering; everything downstream consumes
 //! [`SurfaceMesh`].
+//!
+//! * [`CornerPointGrid`]: pillars (COORD), corner depths (ZCORN), activity (ACTNUM),
+//!   properties and report steps, checked when built ([`CornerPointGrid::from_arrays`]).
+//! * [`open`] / [`open_with`] read a model, the reader chosen by the file's content
+//!   ([`grdecl`] for text decks, [`eclbin`] for EGRID with its INIT and restarts);
+//!   [`save`] writes one in the format its extension names.
+//! * [`synth::generate`] makes a faulted, folded model of any size, deterministic by
+//!   seed, for tests, examples and benchmarks.
+//! * [`layer_surface`], [`layer_surfaces`] and [`side_surfaces`] turn cells into a
+//!   [`SurfaceMesh`] whose global texture coordinates put every grid line on an odd
+//!   value, so the original wireframe survives decimation; [`terrain`] triangulates
+//!   scattered picks instead.
+//! * [`Error`]: every failure, naming the file, keyword and line or record.
+//!
+//! ```
+//! use strata_grid::synth::{SynthParams, generate};
+//! use strata_grid::{Face, layer_surface, open, save};
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! let grid = generate(&SynthParams { nx: 20, ny: 12, nz: 3, faults: 2, seed: 7 })?;
+//!
+//! // The top of the first layer, coloured by porosity, near the display origin.
+//! let top = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin())?;
+//! top.validate().expect("a consistent mesh");
+//! // One quad (two triangles) per active cell of the layer: inactive cells are holes.
+//! assert_eq!(top.cell_faces.len(), grid.active_count_in(0, 0..12));
+//! assert!(top.cell_faces.len() < 20 * 12);
+//! assert_eq!(top.triangle_count(), 2 * top.cell_faces.len());
+//! // Every vertex is a grid node, so both its texture coordinates are odd integers.
+//! assert!(top.texcoords.iter().flatten().all(|&t| t.fract() == 0.0 && t % 2.0 == 1.0));
+//! // Faults split the surface: some nodes are more than one vertex.
+//! let mut nodes: Vec<[u32; 2]> = top.texcoords.iter().map(|t| t.map(|v| v as u32)).collect();
+//! nodes.sort();
+//! nodes.dedup();
+//! assert!(nodes.len() < top.vertex_count());
+//!
+//! // Written as an EGRID and read back, the model keeps its shape and holes.
+//! let dir = tempfile::tempdir()?;
+//! let path = dir.path().join("SYNTH.EGRID");
+//! save(&grid, &path)?;
+//! let back = open(&path)?;
+//! assert_eq!(back.dims(), grid.dims());
+//! assert_eq!(back.active_count(), grid.active_count());
+//! # Ok(())
+//! # }
+//! ```
+
+#![warn(missing_docs)]
 
 pub mod eclbin;
 mod error;
@@ -86,8 +134,12 @@ pub enum Content {
     EclipseBinary,
     /// A strata level-of-detail hierarchy.
     Hierarchy,
-    /// Other binary data: byte `zero_at` is zero.
-    Binary { zero_at: usize },
+    /// Other binary data.
+    Binary {
+        /// Offset of the first zero byte, which no text deck has: shown in messages
+        /// so the user can check the file.
+        zero_at: usize,
+    },
     /// Text, or empty.
     Text,
 }

@@ -8,8 +8,12 @@ use serde::Serialize;
 /// to and that cell's property value (NaN when no property was chosen).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CellFace {
+    /// Indices into [`SurfaceMesh::triangles`] of the quad's two halves; the edge they
+    /// share is the diagonal, which wireframes must not draw.
     pub triangles: [u32; 2],
+    /// The cell `[i, j, k]` (0-based), for picking and for colouring by cell.
     pub cell: [u32; 3],
+    /// The cell's property value, NaN when no property was chosen or it is undefined.
     pub value: f32,
 }
 
@@ -24,11 +28,17 @@ pub struct CellFace {
 /// * `cell_faces` is empty for plain triangle meshes.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceMesh {
+    /// Display-frame point (map x, map y, elevation) that positions are relative to.
     pub origin: [f64; 3],
+    /// Vertex positions relative to `origin`.
     pub positions: Vec<[f32; 3]>,
+    /// Global wireframe coordinates, one pair per vertex (odd on grid lines).
     pub texcoords: Vec<[f32; 2]>,
+    /// One scalar per vertex, or empty when the mesh carries none.
     pub scalars: Vec<f32>,
+    /// Vertex indices, three per triangle.
     pub triangles: Vec<[u32; 3]>,
+    /// The cell quads, each made of two of `triangles`; empty for plain meshes.
     pub cell_faces: Vec<CellFace>,
 }
 
@@ -72,14 +82,17 @@ impl SurfaceMesh {
         mesh
     }
 
+    /// Number of vertices (the length of every per-vertex attribute).
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
 
+    /// Number of triangles: two per cell face on a surface made of cell quads.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }
 
+    /// Whether there is nothing to draw: no triangle (vertices alone draw nothing).
     pub fn is_empty(&self) -> bool {
         self.triangles.is_empty()
     }

@@ -24,7 +24,10 @@ use crate::{CellFace, CornerPointGrid, Dims, Error, Result, SurfaceMesh};
 /// Which horizontal face of the cells a layer surface is made of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Face {
+    /// The upper face (ZCORN's first corner level of the layer): what a view from
+    /// above sees.
     Top,
+    /// The lower face (ZCORN's second corner level): the base of the layer.
     Bottom,
 }
 
@@ -87,7 +90,9 @@ pub fn layer_surface(
 /// surface that a band of rows, or a close-up, needs.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Columns {
+    /// Cell columns along `i`.
     pub i: Range<usize>,
+    /// Cell rows along `j`.
     pub j: Range<usize>,
 }
 

@@ -62,11 +62,16 @@ use crate::{CornerPointGrid, Dims, Result, Units};
 /// What to generate.
 #[derive(Clone, Debug)]
 pub struct SynthParams {
+    /// Cells along `i` (east), each 50 m wide.
     pub nx: usize,
+    /// Cells along `j` (north), each 50 m wide.
     pub ny: usize,
+    /// Layers; with more than two, the middle one pinches out in the west.
     pub nz: usize,
     /// Number of faults (vertical and inclined, each with a throw).
     pub faults: usize,
+    /// Draws the fault positions, throws and field phases: the same seed and sizes
+    /// give the same grid.
     pub seed: u64,
 }
 

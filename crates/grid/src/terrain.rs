@@ -35,6 +35,8 @@ pub struct TerrainInput {
 /// A triangulated terrain and what the triangulation had to leave out.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Terrain {
+    /// The TIN: positions relative to its origin, elevation as the scalar, texture
+    /// coordinates all 0.
     pub mesh: SurfaceMesh,
     /// Picks dropped because another pick had the same map position.
     pub duplicates: usize,
@@ -278,11 +280,14 @@ pub fn write_points(path: &Path, points: &[[f64; 3]]) -> Result<()> {
 pub struct TerrainSynth {
     /// Number of scattered picks.
     pub points: usize,
+    /// Draws the pick positions (the fault and outline are fixed): the same seed gives
+    /// the same picks.
     pub seed: u64,
     /// Map position of the area's south-west corner.
     pub origin: [f64; 2],
     /// Size of the area (metres).
     pub size: [f64; 2],
+    /// Metres the horizon drops east of the fault trace (a negative throw raises it).
     pub throw: f64,
 }
 

@@ -104,17 +104,24 @@ impl RecordKind {
 /// The values of one keyword, decoded.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RecordData {
+    /// `INTE` values (dimensions, ACTNUM, INTEHEAD, ...).
     Inte(Vec<i32>),
+    /// `REAL` values (ZCORN, properties, solution arrays, ...).
     Real(Vec<f32>),
+    /// `DOUB` values (DOUBHEAD, double-precision solution arrays, ...).
     Doub(Vec<f64>),
+    /// `LOGI` values (LOGIHEAD, ...), any non-zero word read as true.
     Logi(Vec<bool>),
     /// 8-character strings, trailing blanks removed.
     Char(Vec<String>),
     /// Strings of `width` characters (type `C0nn`), trailing blanks removed.
     C0nn {
+        /// Characters per string, 1 to 999: the `nn` of the type code.
         width: u16,
+        /// The strings, each at most `width` characters.
         values: Vec<String>,
     },
+    /// No values: the keyword is a marker (STARTSOL, ENDSOL, ...).
     Mess,
 }
 
@@ -144,6 +151,7 @@ impl RecordData {
         }
     }
 
+    /// Whether there are no items (always so for `Mess`).
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -152,11 +160,15 @@ impl RecordData {
 /// One keyword: its name (at most 8 characters, trailing blanks removed) and values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Record {
+    /// The keyword (ZCORN, PORO, SEQNUM, ...); the writer refuses one longer than 8
+    /// characters or not printable ASCII.
     pub name: String,
+    /// Its values; their variant is the type written in the header.
     pub data: RecordData,
 }
 
 impl Record {
+    /// A keyword to write, or to compare with what a reader decoded.
     pub fn new(name: impl Into<String>, data: RecordData) -> Self {
         Record {
             name: name.into(),
@@ -217,6 +229,7 @@ impl EclFile {
         })
     }
 
+    /// The file that was mapped, for messages.
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -480,6 +493,7 @@ impl<'a> RecordView<'a> {
         self.name
     }
 
+    /// The item type its header declares, which decides the `to_*` that applies.
     pub fn kind(&self) -> RecordKind {
         self.kind
     }
@@ -489,6 +503,7 @@ impl<'a> RecordView<'a> {
         self.count
     }
 
+    /// Whether the header counts no items (a `MESS` marker, or an empty array).
     pub fn is_empty(&self) -> bool {
         self.count == 0
     }

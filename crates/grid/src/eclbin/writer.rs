@@ -34,6 +34,7 @@ impl RecordWriter<BufWriter<File>> {
 }
 
 impl<W: Write> RecordWriter<W> {
+    /// Writes to any destination (a buffer in tests); `path` only names it in errors.
     pub fn new(out: W, path: impl Into<PathBuf>) -> Self {
         RecordWriter {
             out,
@@ -64,18 +65,21 @@ impl<W: Write> RecordWriter<W> {
         }
     }
 
+    /// An INTE keyword, in data records of 1000 items as Eclipse writes them.
     pub fn inte(&mut self, name: &str, values: &[i32]) -> Result<()> {
         self.items(name, RecordKind::Inte, values, |v, o| {
             o.copy_from_slice(&v.to_be_bytes())
         })
     }
 
+    /// A REAL keyword (ZCORN, properties, solution arrays).
     pub fn real(&mut self, name: &str, values: &[f32]) -> Result<()> {
         self.items(name, RecordKind::Real, values, |v, o| {
             o.copy_from_slice(&v.to_be_bytes())
         })
     }
 
+    /// A DOUB keyword, for values that `f32` would round.
     pub fn doub(&mut self, name: &str, values: &[f64]) -> Result<()> {
         self.items(name, RecordKind::Doub, values, |v, o| {
             o.copy_from_slice(&v.to_be_bytes())

@@ -3,8 +3,9 @@
 //!
 //! Arrays are formatted in parallel, in pieces of [`PIECE`] values, a wave of pieces
 //! at a time, and streamed through one `BufWriter`: a 1000 x 1000 x 100 grid (3.2 GB
-//! of ZCORN) never has more than a few megabytes of text in memory. Runs of three or
-//! more equal values are written `N*v`, undefined (NaN) property values as `N*`.
+//! of ZCORN) never has more than one wave of text in memory, at most [`MAX_WAVE`]
+//! pieces however many cores there are. Runs of three or more equal values are
+//! written `N*v`, undefined (NaN) property values as `N*`.
 //! Floats are written as short as fixed notation allows while still reading back
 //! bit for bit (`f32` ZCORN and properties, `f64` COORD and MAPAXES), see
 //! [`put_float`]; infinities as `1e39` / `1e309`.
