@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 
 use strata::grid::synth::{SynthParams, generate};
-use strata::grid::{Face, ReadOptions, layer_surface};
+use strata::grid::{Face, ReadOptions, Surfaces, layer_surfaces};
 use strata::lod::{Options, decimate};
 use strata::render::glam::Vec3;
 use strata::render::{Camera, Renderer, Style, View, WireMode};
@@ -47,7 +47,7 @@ fn main() -> anyhow::Result<()> {
             seed: 1,
         })?
     };
-    let original = layer_surface(&grid, 0, Face::Top, None, grid.display_origin())?;
+    let original = layer_surfaces(&grid, Face::Top, &Surfaces::layer(0, grid.display_origin()))?;
     let z_scale = 5.0;
     let options = Options {
         z_scale,

@@ -6,8 +6,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 use strata_grid::{
-    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, has_faces, layer_surface_in,
-    layer_surfaces_in, open_sides, side_face_corners, side_surfaces_among, visit_row_faces,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, Surfaces, has_faces, layer_surfaces,
+    open_sides, side_face_corners, side_surfaces, visit_row_faces,
 };
 use strata_render::glam::Vec3;
 use strata_render::{Camera, Framing};
@@ -279,16 +279,36 @@ pub fn build_part(
         return Ok(SurfaceMesh::with_origin(origin));
     }
     let mesh = match part {
-        Part::Tops(run) => {
-            layer_surfaces_in(grid, run.clone(), Face::Top, property, origin, &columns)?
-        }
-        Part::Band { layer, face, .. } => {
-            layer_surface_in(grid, *layer, *face, property, origin, &columns)?
-        }
-        Part::Bottom(k) => layer_surface_in(grid, *k, Face::Bottom, property, origin, &columns)?,
+        Part::Tops(run) => layer_surfaces(
+            grid,
+            Face::Top,
+            &Surfaces::new(run.clone(), origin)
+                .property(property)
+                .columns(columns.clone()),
+        )?,
+        Part::Band { layer, face, .. } => layer_surfaces(
+            grid,
+            *face,
+            &Surfaces::layer(*layer, origin)
+                .property(property)
+                .columns(columns.clone()),
+        )?,
+        Part::Bottom(k) => layer_surfaces(
+            grid,
+            Face::Bottom,
+            &Surfaces::layer(*k, origin)
+                .property(property)
+                .columns(columns.clone()),
+        )?,
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
-            side_surfaces_among(grid, run.clone(), scene, property, origin, &columns)?
+            side_surfaces(
+                grid,
+                &Surfaces::new(run.clone(), origin)
+                    .property(property)
+                    .columns(columns.clone())
+                    .among(scene),
+            )?
         }
     };
     Ok(if options.flat_cells && property.is_some() {
@@ -611,7 +631,11 @@ pub fn column_top(
         .unwrap_or(0..nz)
         .filter(|&k| grid.is_active(i, j, k))
         .map(|k| {
-            let face = layer_surface_in(grid, k, Face::Top, None, origin, &column)?;
+            let face = layer_surfaces(
+                grid,
+                Face::Top,
+                &Surfaces::layer(k, origin).columns(column.clone()),
+            )?;
             Ok(face.cell_centre(cell))
         });
     first_face_centre(cell, [nx, ny], candidates)
@@ -822,7 +846,8 @@ mod tests {
         {
             let cell = [i as u32, j as u32];
             let on_layers = (0..d.nz).map(|k| {
-                let layer = strata_grid::layer_surface(&grid, k, Face::Top, None, origin)?;
+                let layer =
+                    strata_grid::layer_surfaces(&grid, Face::Top, &Surfaces::layer(k, origin))?;
                 Ok(layer.cell_centre(cell))
             });
             let whole = first_face_centre(cell, [d.nx, d.ny], on_layers);

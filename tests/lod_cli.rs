@@ -908,7 +908,7 @@ fn the_hierarchy_view_frames_the_model_as_render_does() {
 /// says what it was given.
 #[test]
 fn info_summarises_a_hierarchy_and_commands_name_the_other_kind_of_file() {
-    use strata::grid::{Face, layer_surface, layer_surfaces};
+    use strata::grid::{Face, Surfaces, layer_surfaces};
 
     let dir = tempfile::tempdir().expect("a temporary folder");
     let lod = dir.path().join("sample8.lod");
@@ -926,8 +926,9 @@ fn info_summarises_a_hierarchy_and_commands_name_the_other_kind_of_file() {
     assert_eq!(info["tile_cells"], 8);
     // The top of every layer and the bottom of the last, as the hierarchy holds them.
     let origin = grid.display_origin();
-    let tops = layer_surfaces(&grid, 0..d.nz, Face::Top, None, origin).expect("the tops");
-    let bottom = layer_surface(&grid, d.nz - 1, Face::Bottom, None, origin).expect("the bottom");
+    let tops = layer_surfaces(&grid, Face::Top, &Surfaces::new(0..d.nz, origin)).expect("the tops");
+    let bottom = layer_surfaces(&grid, Face::Bottom, &Surfaces::layer(d.nz - 1, origin))
+        .expect("the bottom");
     let full = tops.triangle_count() + bottom.triangle_count();
     let levels = info["levels"].as_array().expect("levels");
     let number = |v: &serde_json::Value| v.as_f64().expect("a number");

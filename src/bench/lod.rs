@@ -77,7 +77,7 @@ use serde::Serialize;
 use crate::memory::peak_memory_kb;
 use crate::metrics::{f1, line_mask};
 use strata_grid::synth::{SynthParams, generate};
-use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface};
+use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces};
 use strata_lod::baseline::{ClusterLod, Simplifier, simplify, submesh};
 use strata_lod::measure::{OutlineBound, deviation, outline_bound};
 use strata_lod::{
@@ -441,7 +441,13 @@ fn surfaces(grid: &CornerPointGrid) -> Result<Vec<SurfaceMesh>> {
     (0..nz)
         .map(|k| (k, Face::Top))
         .chain((nz > 0).then_some((nz - 1, Face::Bottom)))
-        .map(|(k, face)| Ok(layer_surface(grid, k, face, property, origin)?))
+        .map(|(k, face)| {
+            Ok(layer_surfaces(
+                grid,
+                face,
+                &Surfaces::layer(k, origin).property(property),
+            )?)
+        })
         .collect()
 }
 
@@ -982,12 +988,10 @@ fn generated_layer(n: usize) -> Result<(String, CornerPointGrid)> {
 
 /// The top surface of a generated layer, coloured by PORO.
 fn top_surface(grid: &CornerPointGrid) -> Result<SurfaceMesh> {
-    Ok(layer_surface(
+    Ok(layer_surfaces(
         grid,
-        0,
         Face::Top,
-        Some("PORO"),
-        grid.display_origin(),
+        &Surfaces::layer(0, grid.display_origin()).property(Some("PORO")),
     )?)
 }
 

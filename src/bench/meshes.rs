@@ -9,7 +9,7 @@ use std::collections::HashMap;
 
 use anyhow::Result;
 use strata_grid::synth::{ICOSAHEDRON_CORNERS, ICOSAHEDRON_FACES, SynthParams, generate};
-use strata_grid::{Face, SurfaceMesh, layer_surfaces};
+use strata_grid::{Face, SurfaceMesh, Surfaces, layer_surfaces};
 
 /// The kinds of benchmark mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -164,10 +164,8 @@ pub fn reservoir(triangles: usize) -> Result<SurfaceMesh> {
     })?;
     Ok(layer_surfaces(
         &grid,
-        0..nz,
         Face::Top,
-        None,
-        grid.display_origin(),
+        &Surfaces::new(0..nz, grid.display_origin()),
     )?)
 }
 

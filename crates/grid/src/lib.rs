@@ -20,13 +20,13 @@
 //!
 //! ```
 //! use strata_grid::synth::{SynthParams, generate};
-//! use strata_grid::{Face, layer_surface, open, save};
+//! use strata_grid::{Face, layer_surfaces, open, save, Surfaces};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let grid = generate(&SynthParams { nx: 20, ny: 12, nz: 3, faults: 2, seed: 7 })?;
 //!
 //! // The top of the first layer, coloured by porosity, near the display origin.
-//! let top = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin())?;
+//! let top = layer_surfaces(&grid, Face::Top, &Surfaces::layer(0, grid.display_origin()).property(Some("PORO")))?;
 //! top.validate().expect("a consistent mesh");
 //! // One quad (two triangles) per active cell of the layer: inactive cells are holes.
 //! assert_eq!(top.cell_faces.len(), grid.active_count_in(0, 0..12));
@@ -74,9 +74,8 @@ pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;
 pub use surface::{
-    Columns, Face, has_faces, layer_surface, layer_surface_in, layer_surfaces, layer_surfaces_in,
-    open_sides, side_face_corners, side_surfaces, side_surfaces_among, surface_face_corners,
-    visit_row_faces,
+    Columns, Face, Surfaces, has_faces, layer_surfaces, open_sides, side_face_corners,
+    side_surfaces, surface_face_corners, visit_row_faces,
 };
 pub use terrain::{Terrain, TerrainInput, TerrainSynth};
 

@@ -72,18 +72,74 @@ fn is_pinched(grid: &CornerPointGrid, i: usize, j: usize, k: usize) -> bool {
     (0..4).all(|c| grid.corner_depth(i, j, k, c) == grid.corner_depth(i, j, k, c + 4))
 }
 
-/// The layer surface of layer `k` (0-based). `property` (static or from the last
-/// report step) gives the per-cell values and, averaged onto nodes on each side of a
-/// fault, the per-vertex scalar. Positions are relative to `origin` (display frame,
-/// see [`CornerPointGrid::to_display`]).
-pub fn layer_surface(
-    grid: &CornerPointGrid,
-    k: usize,
-    face: Face,
-    property: Option<&str>,
-    origin: [f64; 3],
-) -> Result<SurfaceMesh> {
-    layer_surface_in(grid, k, face, property, origin, &Columns::all(grid.dims()))
+/// Which faces of a grid a surface holds and what its vertices carry: the one request
+/// that [`layer_surfaces`] and [`side_surfaces`] take. `property` (static, or from the
+/// last report step) gives the per-cell values and, averaged onto nodes on each side
+/// of a fault, the per-vertex scalar. Positions are relative to `origin` (display
+/// frame, see [`CornerPointGrid::to_display`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Surfaces<'a> {
+    /// Layers, 0-based, end exclusive.
+    pub layers: Range<usize>,
+    /// The property the cells and vertices carry; none when `None`.
+    pub property: Option<&'a str>,
+    /// Display-frame origin the positions are relative to.
+    pub origin: [f64; 3],
+    /// The columns whose faces are built, for a layer too large to hold at once or a
+    /// close-up; every column when `None`. The nodes on the rectangle's edges take
+    /// their values, as in the whole surface, from the cells on both sides, and bands
+    /// of whole rows one after another make the whole surface's faces in its order.
+    pub columns: Option<Columns>,
+    /// Side faces of a run of the layers a scene draws: the scene's layers, whose cells
+    /// just outside the run still lend values to the run's nodes, so that runs drawn
+    /// one after another colour their shared nodes as the whole scene does; `layers`
+    /// when `None`.
+    pub scene: Option<Range<usize>>,
+}
+
+impl<'a> Surfaces<'a> {
+    /// The faces of `layers` in every column, positions relative to `origin`, carrying
+    /// no property.
+    pub fn new(layers: Range<usize>, origin: [f64; 3]) -> Self {
+        Surfaces {
+            layers,
+            property: None,
+            origin,
+            columns: None,
+            scene: None,
+        }
+    }
+
+    /// The faces of layer `k` alone.
+    pub fn layer(k: usize, origin: [f64; 3]) -> Self {
+        Self::new(k..k + 1, origin)
+    }
+
+    /// These faces carrying `property`.
+    pub fn property(self, property: Option<&'a str>) -> Self {
+        Surfaces { property, ..self }
+    }
+
+    /// These faces in `columns` only.
+    pub fn columns(self, columns: Columns) -> Self {
+        Surfaces {
+            columns: Some(columns),
+            ..self
+        }
+    }
+
+    /// These side faces as a run of the layers `scene` draws.
+    pub fn among(self, scene: Range<usize>) -> Self {
+        Surfaces {
+            scene: Some(scene),
+            ..self
+        }
+    }
+
+    /// The columns asked for, of a grid of `dims`.
+    fn columns_of(&self, dims: Dims) -> Columns {
+        self.columns.clone().unwrap_or_else(|| Columns::all(dims))
+    }
 }
 
 /// A rectangle of columns of cells (0-based, ends exclusive): the part of a layer
@@ -226,12 +282,8 @@ pub fn visit_row_faces(
     }
 }
 
-/// The faces of the cells in `columns` of the layer surface of layer `k`
-/// ([`layer_surface`]), for a layer too large to hold at once or a close-up of it:
-/// the nodes on the rectangle's edges are shared, and take their values, as in the
-/// whole surface, from the cells on both sides. Bands of whole rows one after another
-/// make the whole surface's faces in its order.
-pub fn layer_surface_in(
+/// The faces in `columns` of layer `k`'s surface ([`layer_surfaces`]).
+fn one_layer(
     grid: &CornerPointGrid,
     k: usize,
     face: Face,
@@ -358,37 +410,25 @@ pub fn layer_surface_in(
     Ok(mesh)
 }
 
-/// The layer surfaces of `layers`, stacked into one mesh (built in parallel).
+/// The layer surfaces (top or bottom faces, `face`) of what `request` asks for,
+/// stacked into one mesh in layer order (built in parallel).
 pub fn layer_surfaces(
     grid: &CornerPointGrid,
-    layers: Range<usize>,
     face: Face,
-    property: Option<&str>,
-    origin: [f64; 3],
+    request: &Surfaces,
 ) -> Result<SurfaceMesh> {
-    layer_surfaces_in(
-        grid,
-        layers,
-        face,
-        property,
-        origin,
-        &Columns::all(grid.dims()),
-    )
-}
-
-/// The faces in `columns` of the layer surfaces of `layers`
-/// ([`layer_surface_in`]), stacked into one mesh (built in parallel).
-pub fn layer_surfaces_in(
-    grid: &CornerPointGrid,
-    layers: Range<usize>,
-    face: Face,
-    property: Option<&str>,
-    origin: [f64; 3],
-    columns: &Columns,
-) -> Result<SurfaceMesh> {
-    let meshes = layers
+    let columns = request.columns_of(grid.dims());
+    let Surfaces {
+        property, origin, ..
+    } = *request;
+    if request.layers.len() == 1 {
+        return one_layer(grid, request.layers.start, face, property, origin, &columns);
+    }
+    let meshes = request
+        .layers
+        .clone()
         .into_par_iter()
-        .map(|k| layer_surface_in(grid, k, face, property, origin, columns))
+        .map(|k| one_layer(grid, k, face, property, origin, &columns))
         .collect::<Result<Vec<_>>>()?;
     let mut all = SurfaceMesh::with_origin(origin);
     for m in &meshes {
@@ -397,17 +437,24 @@ pub fn layer_surfaces_in(
     Ok(all)
 }
 
-/// Side faces of the cells of `layers`: every i or j face of an active, non-pinched
-/// cell whose neighbour across it is missing, inactive or pinched, or split from it by
-/// a fault. Fault walls thus show both cells' faces, each with its own wireframe.
-pub fn side_surfaces(
-    grid: &CornerPointGrid,
-    layers: Range<usize>,
-    property: Option<&str>,
-    origin: [f64; 3],
-) -> Result<SurfaceMesh> {
-    let all = Columns::all(grid.dims());
-    side_surfaces_among(grid, layers.clone(), layers, property, origin, &all)
+/// Side faces of the cells of `request`'s layers: every i or j face of an active,
+/// non-pinched cell whose neighbour across it is missing, inactive or pinched, or
+/// split from it by a fault. Fault walls thus show both cells' faces, each with its
+/// own wireframe.
+pub fn side_surfaces(grid: &CornerPointGrid, request: &Surfaces) -> Result<SurfaceMesh> {
+    let columns = request.columns_of(grid.dims());
+    let scene = request
+        .scene
+        .clone()
+        .unwrap_or_else(|| request.layers.clone());
+    side_faces_among(
+        grid,
+        request.layers.clone(),
+        scene,
+        request.property,
+        request.origin,
+        &columns,
+    )
 }
 
 /// Whether cell `(i, j, k)` has faces on the surfaces: active and not pinched out.
@@ -457,12 +504,8 @@ fn face_has_area([a, b, c, d]: [[f32; 3]; 4]) -> bool {
     triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA
 }
 
-/// The side faces of `layers` (as [`side_surfaces`]) in `columns`, for a run of the
-/// layers `scene` draws: the property's values at the nodes also average the side
-/// faces of the scene's cells just outside the run and the columns, so that runs and
-/// rectangles drawn one after another colour their shared nodes as the whole scene's
-/// side faces do.
-pub fn side_surfaces_among(
+/// The side faces of `layers` in `columns`, as a run of `scene` ([`Surfaces::scene`]).
+fn side_faces_among(
     grid: &CornerPointGrid,
     layers: Range<usize>,
     scene: Range<usize>,
@@ -770,7 +813,12 @@ mod tests {
         let g = faulted();
         let origin = g.display_origin();
         for k in 0..g.dims().nz {
-            let m = layer_surface(&g, k, Face::Top, Some("PORO"), origin).unwrap();
+            let m = layer_surfaces(
+                &g,
+                Face::Top,
+                &Surfaces::layer(k, origin).property(Some("PORO")),
+            )
+            .unwrap();
             m.validate().unwrap();
             assert_eq!(m.scalars.len(), m.vertex_count());
             for f in &m.cell_faces {
@@ -801,7 +849,7 @@ mod tests {
         let mut saw_hole = false;
         let mut saw_pinch = false;
         for k in 0..d.nz {
-            let m = layer_surface(&g, k, Face::Top, None, [0.0; 3]).unwrap();
+            let m = layer_surfaces(&g, Face::Top, &Surfaces::layer(k, [0.0; 3])).unwrap();
             let faces: Vec<[u32; 3]> = m.cell_faces.iter().map(|f| f.cell).collect();
             for j in 0..d.ny {
                 for i in 0..d.nx {
@@ -824,7 +872,7 @@ mod tests {
         let g = faulted();
         let d = g.dims();
         let k = 1;
-        let m = layer_surface(&g, k, Face::Top, None, [0.0; 3]).unwrap();
+        let m = layer_surfaces(&g, Face::Top, &Surfaces::layer(k, [0.0; 3])).unwrap();
         // Vertex of each (cell, corner).
         let mut corner_vertex = HashMap::new();
         for f in &m.cell_faces {
@@ -898,7 +946,7 @@ mod tests {
         mirrored.mapaxes = Some(crate::MapAxes::from_values([0.0, -1.0, 0.0, 0.0, 1.0, 0.0]));
         for g in [faulted(), mirrored] {
             let origin = g.display_origin();
-            let sides = side_surfaces(&g, 0..g.dims().nz, None, origin).unwrap();
+            let sides = side_surfaces(&g, &Surfaces::new(0..g.dims().nz, origin)).unwrap();
             let (mut outward, mut inward) = (0, 0);
             for f in &sides.cell_faces {
                 let [i, j, k] = f.cell.map(|c| c as usize);
@@ -973,7 +1021,13 @@ mod tests {
     /// The faces in `columns` of `g`'s layer 2 with PORO, checked, and with every
     /// vertex used: the cells around the columns lend values, not nodes.
     fn layer_2_in(g: &CornerPointGrid, face: Face, columns: &Columns) -> SurfaceMesh {
-        let piece = layer_surface_in(g, 2, face, Some("PORO"), g.display_origin(), columns);
+        let piece = layer_surfaces(
+            g,
+            face,
+            &Surfaces::layer(2, g.display_origin())
+                .property(Some("PORO"))
+                .columns(columns.clone()),
+        );
         let piece = piece.unwrap();
         piece.validate().unwrap();
         let mut used = vec![false; piece.vertex_count()];
@@ -1004,7 +1058,9 @@ mod tests {
                 .collect()
         };
         for face in [Face::Top, Face::Bottom] {
-            let whole = layer_surface(&g, 2, face, Some("PORO"), origin).unwrap();
+            let whole =
+                layer_surfaces(&g, face, &Surfaces::layer(2, origin).property(Some("PORO")))
+                    .unwrap();
             let mut bands = SurfaceMesh::with_origin(origin);
             for rows in [0..1, 1..7, 7..18] {
                 let columns = Columns::all(g.dims()).in_rows(rows);
@@ -1019,7 +1075,13 @@ mod tests {
                 "{face:?}: corners differ"
             );
         }
-        let beyond = |i, j| layer_surface_in(&g, 2, Face::Top, None, origin, &Columns { i, j });
+        let beyond = |i, j| {
+            layer_surfaces(
+                &g,
+                Face::Top,
+                &Surfaces::layer(2, origin).columns(Columns { i, j }.clone()),
+            )
+        };
         assert!(beyond(0..24, 10..19).is_err());
         assert!(beyond(3..25, 0..18).is_err());
         assert!(beyond(0..24, 4..4).is_err());
@@ -1034,7 +1096,9 @@ mod tests {
         let g = faulted();
         let origin = g.display_origin();
         for face in [Face::Top, Face::Bottom] {
-            let whole = layer_surface(&g, 2, face, Some("PORO"), origin).unwrap();
+            let whole =
+                layer_surfaces(&g, face, &Surfaces::layer(2, origin).property(Some("PORO")))
+                    .unwrap();
             let mut pieces = SurfaceMesh::with_origin(origin);
             for columns in rectangles([0..5, 5..17, 17..24], [0..9, 9..18]) {
                 pieces.append(&layer_2_in(&g, face, &columns));
@@ -1055,7 +1119,7 @@ mod tests {
         let origin = g.display_origin();
         let d = g.dims();
         for face in [Face::Top, Face::Bottom] {
-            let m = layer_surface(&g, 3, face, None, origin).unwrap();
+            let m = layer_surfaces(&g, face, &Surfaces::layer(3, origin)).unwrap();
             let mut faces = m.cell_faces.iter();
             for j in 0..d.ny {
                 for i in 0..d.nx {
@@ -1110,7 +1174,11 @@ mod tests {
         let origin = g.display_origin();
         let scene = 1..5;
         let all = Columns::all(g.dims());
-        let whole = side_surfaces(&g, scene.clone(), Some("PORO"), origin).unwrap();
+        let whole = side_surfaces(
+            &g,
+            &Surfaces::new(scene.clone(), origin).property(Some("PORO")),
+        )
+        .unwrap();
         let corners = |m: &SurfaceMesh| -> Vec<([f32; 3], [f32; 2], f32)> {
             m.triangles
                 .iter()
@@ -1123,7 +1191,13 @@ mod tests {
         };
         let mut runs = SurfaceMesh::with_origin(origin);
         for run in [1..2, 2..4, 4..5] {
-            let part = side_surfaces_among(&g, run, scene.clone(), Some("PORO"), origin, &all);
+            let part = side_surfaces(
+                &g,
+                &Surfaces::new(run, origin)
+                    .property(Some("PORO"))
+                    .columns(all.clone())
+                    .among(scene.clone()),
+            );
             let part = part.unwrap();
             runs.append(&part);
         }
@@ -1141,11 +1215,23 @@ mod tests {
         // A run alone averages its own cells only: the shared nodes differ.
         let alone: Vec<_> = [1..2, 2..4, 4..5]
             .into_iter()
-            .flat_map(|run| corners(&side_surfaces(&g, run, Some("PORO"), origin).unwrap()))
+            .flat_map(|run| {
+                corners(
+                    &side_surfaces(&g, &Surfaces::new(run, origin).property(Some("PORO"))).unwrap(),
+                )
+            })
             .collect();
         assert!(alone.iter().zip(&want).any(|(a, b)| a.2 != b.2));
         // A run outside the scene is refused.
-        assert!(side_surfaces_among(&g, 0..2, scene, None, origin, &all).is_err());
+        assert!(
+            side_surfaces(
+                &g,
+                &Surfaces::new(0..2, origin)
+                    .columns(all.clone())
+                    .among(scene)
+            )
+            .is_err()
+        );
     }
 
     #[test]
@@ -1157,17 +1243,20 @@ mod tests {
         let g = faulted();
         let origin = g.display_origin();
         let scene = 1..5;
-        let whole = side_surfaces(&g, scene.clone(), Some("PORO"), origin).unwrap();
+        let whole = side_surfaces(
+            &g,
+            &Surfaces::new(scene.clone(), origin).property(Some("PORO")),
+        )
+        .unwrap();
         let mut pieces = SurfaceMesh::with_origin(origin);
         for run in [1..3, 3..5] {
             for columns in rectangles([0..7, 7..24], [0..10, 10..18]) {
-                let piece = side_surfaces_among(
+                let piece = side_surfaces(
                     &g,
-                    run.clone(),
-                    scene.clone(),
-                    Some("PORO"),
-                    origin,
-                    &columns,
+                    &Surfaces::new(run.clone(), origin)
+                        .property(Some("PORO"))
+                        .columns(columns.clone())
+                        .among(scene.clone()),
                 );
                 let piece = piece.unwrap();
                 piece.validate().unwrap();
@@ -1180,7 +1269,15 @@ mod tests {
             "side faces differ"
         );
         let beyond = Columns { i: 0..25, j: 0..18 };
-        assert!(side_surfaces_among(&g, 1..3, scene, None, origin, &beyond).is_err());
+        assert!(
+            side_surfaces(
+                &g,
+                &Surfaces::new(1..3, origin)
+                    .columns(beyond.clone())
+                    .among(scene)
+            )
+            .is_err()
+        );
     }
 
     #[test]
@@ -1190,7 +1287,7 @@ mod tests {
         let g = faulted();
         let origin = g.display_origin();
         let d = g.dims();
-        let sides = side_surfaces(&g, 2..3, None, origin).unwrap();
+        let sides = side_surfaces(&g, &Surfaces::new(2..3, origin)).unwrap();
         let mut faces = sides.cell_faces.iter();
         for j in 0..d.ny {
             for i in 0..d.nx {
@@ -1227,10 +1324,15 @@ mod tests {
         let g = faulted();
         let d = g.dims();
         let origin = g.display_origin();
-        let all = layer_surfaces(&g, 0..d.nz, Face::Top, Some("PERMX"), origin).unwrap();
+        let all = layer_surfaces(
+            &g,
+            Face::Top,
+            &Surfaces::new(0..d.nz, origin).property(Some("PERMX")),
+        )
+        .unwrap();
         let sum: usize = (0..d.nz)
             .map(|k| {
-                layer_surface(&g, k, Face::Top, None, origin)
+                layer_surfaces(&g, Face::Top, &Surfaces::layer(k, origin))
                     .unwrap()
                     .triangle_count()
             })
@@ -1238,7 +1340,8 @@ mod tests {
         assert_eq!(all.triangle_count(), sum);
         all.validate().unwrap();
 
-        let sides = side_surfaces(&g, 0..d.nz, Some("PORO"), origin).unwrap();
+        let sides =
+            side_surfaces(&g, &Surfaces::new(0..d.nz, origin).property(Some("PORO"))).unwrap();
         sides.validate().unwrap();
         assert!(!sides.is_empty());
         for f in &sides.cell_faces {
@@ -1270,15 +1373,20 @@ mod tests {
         })
         .unwrap();
         plain.actnum.fill(true);
-        let shell = side_surfaces(&plain, 0..2, None, [0.0; 3]).unwrap();
+        let shell = side_surfaces(&plain, &Surfaces::new(0..2, [0.0; 3])).unwrap();
         assert_eq!(shell.cell_faces.len(), 2 * (6 + 4) * 2);
     }
 
     #[test]
     fn unknown_property_lists_the_available_ones() {
         let g = faulted();
-        let err = layer_surface(&g, 0, Face::Top, Some("SWAT"), [0.0; 3]).unwrap_err();
+        let err = layer_surfaces(
+            &g,
+            Face::Top,
+            &Surfaces::layer(0, [0.0; 3]).property(Some("SWAT")),
+        )
+        .unwrap_err();
         assert!(err.to_string().contains("PERMX, PORO"), "{err}");
-        assert!(layer_surface(&g, 9, Face::Top, None, [0.0; 3]).is_err());
+        assert!(layer_surfaces(&g, Face::Top, &Surfaces::layer(9, [0.0; 3])).is_err());
     }
 }

@@ -5,7 +5,7 @@
 mod common;
 
 use common::{faulted_grid, layer, shared_data};
-use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
+use strata_grid::{Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces};
 use strata_lod::measure::outline_bound;
 use strata_lod::{CellCover, Decimated, Options, decimate};
 
@@ -192,7 +192,8 @@ fn emerald_reaches_ten_percent_and_keeps_its_cells() {
         },
     )
     .expect("emerald");
-    let mesh = layer_surface(&grid, 1, Face::Top, None, grid.display_origin()).expect("layer");
+    let mesh = layer_surfaces(&grid, Face::Top, &Surfaces::layer(1, grid.display_origin()))
+        .expect("layer");
     let out = decimate_covering(&mesh, 0.1);
     let target = Options::fraction(&mesh, 0.1).target_triangles;
     let (uncovered, doubled, samples) = coverage(&mesh, &out);

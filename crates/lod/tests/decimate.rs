@@ -6,7 +6,7 @@
 mod common;
 
 use common::{faulted_grid, layer, one_tile_top, shared_data, topology};
-use strata_grid::{Face, ReadOptions, SurfaceMesh, layer_surface};
+use strata_grid::{Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces};
 use strata_lod::measure::{UvIndex, components, deviation};
 use strata_lod::{Decimated, Options, Placement, closest_on_triangle, decimate};
 
@@ -353,7 +353,8 @@ fn real_models_keep_their_wireframe() {
             ..ReadOptions::default()
         };
         let grid = strata_grid::open_with(&data.join(file), &options).unwrap();
-        let original = layer_surface(&grid, k, Face::Top, None, grid.display_origin()).unwrap();
+        let original =
+            layer_surfaces(&grid, Face::Top, &Surfaces::layer(k, grid.display_origin())).unwrap();
         let out = decimate_to(&original, 0.1);
         let new = check(&original, &out);
         eprintln!(

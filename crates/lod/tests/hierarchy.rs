@@ -6,7 +6,9 @@ mod common;
 use common::{faulted_grid, layer, one_tile_top, shared_data};
 use std::collections::HashMap;
 use std::ops::Range;
-use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
+use strata_grid::{
+    CornerPointGrid, Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces, side_surfaces,
+};
 use strata_lod::measure::deviation;
 
 use strata_lod::{
@@ -26,7 +28,12 @@ fn stored_surface(
     } else {
         Face::Bottom
     };
-    layer_surface(grid, layer.k as usize, face, property, [0.0; 3]).unwrap()
+    layer_surfaces(
+        grid,
+        face,
+        &Surfaces::layer(layer.k as usize, [0.0; 3]).property(property),
+    )
+    .unwrap()
 }
 
 /// How many of the nodes `chosen` draw each cell of layer surface `l`, row by row.
@@ -349,7 +356,12 @@ fn file_round_trip_and_selection() {
     assert_eq!(LodFile::open(&plain).unwrap().scalar_range(), None);
 
     // Same nodes, in the same order, as building in memory.
-    let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin()).unwrap();
+    let mesh = layer_surfaces(
+        &grid,
+        Face::Top,
+        &Surfaces::layer(0, grid.display_origin()).property(Some("PORO")),
+    )
+    .unwrap();
     let tree = build_layer(&mesh, [40, 30], &options(8)).unwrap();
     let layer = file.layers()[0];
     let root = layer.root as usize;
@@ -809,7 +821,8 @@ fn reek_hierarchy_is_crack_free() {
     };
     let grid = strata_grid::open_with(&data.join("reek/REEK.EGRID"), &options_read).unwrap();
     let d = grid.dims();
-    let mesh = layer_surface(&grid, 0, Face::Top, None, grid.display_origin()).unwrap();
+    let mesh =
+        layer_surfaces(&grid, Face::Top, &Surfaces::layer(0, grid.display_origin())).unwrap();
     let tree = build_layer(&mesh, [d.nx as u32, d.ny as u32], &options(8)).unwrap();
     assert!(assert_crack_free(&tree, &mesh) > 50);
 }
@@ -848,7 +861,11 @@ fn each_grid_layers_side_faces_are_stored_at_full_resolution() {
         let file = LodFile::open(&path).unwrap();
         // The model's side faces as `strata render --sides` draws them: vertices
         // between layers average the property over both.
-        let want = side_surfaces(&grid, 0..nz, property, grid.display_origin()).unwrap();
+        let want = side_surfaces(
+            &grid,
+            &Surfaces::new(0..nz, grid.display_origin()).property(property),
+        )
+        .unwrap();
         let want = side_faces(&want);
         let mut got = Vec::new();
         for (l, layer) in file.layers().iter().enumerate() {

@@ -9,7 +9,9 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use common::{edge_uses, faulted_grid, shared_data};
-use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, layer_surface, side_surfaces};
+use strata_grid::{
+    CornerPointGrid, Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces, side_surfaces,
+};
 use strata_lod::{Decimated, Options, decimate, decimate_chosen, stitch};
 
 /// A position, bit for bit.
@@ -192,7 +194,11 @@ fn sample() -> CornerPointGrid {
 /// The side walls of all of `grid`'s layers, coloured by `property`.
 fn sides(grid: &CornerPointGrid, property: Option<&str>) -> SurfaceMesh {
     let nz = grid.dims().nz;
-    side_surfaces(grid, 0..nz, property, grid.display_origin()).expect("side surfaces")
+    side_surfaces(
+        grid,
+        &Surfaces::new(0..nz, grid.display_origin()).property(property),
+    )
+    .expect("side surfaces")
 }
 
 /// `mesh` decimated to `percent` of its triangles as `strata render --lod` does.
@@ -239,8 +245,8 @@ fn check(name: &str, walls: &SurfaceMesh, percent: f64) {
 fn check_stitched(name: &str, grid: &CornerPointGrid, percent: f64, most_cracks: usize) {
     let (nz, origin) = (grid.dims().nz, grid.display_origin());
     let surfaces = [
-        layer_surface(grid, 0, Face::Top, None, origin).expect("top"),
-        layer_surface(grid, nz - 1, Face::Bottom, None, origin).expect("bottom"),
+        layer_surfaces(grid, Face::Top, &Surfaces::layer(0, origin)).expect("top"),
+        layer_surfaces(grid, Face::Bottom, &Surfaces::layer(nz - 1, origin)).expect("bottom"),
         sides(grid, None),
     ];
     let mut input = SurfaceMesh::with_origin(origin);

@@ -8,7 +8,7 @@
 
 mod support;
 
-use strata_grid::{Face, SurfaceMesh, layer_surface};
+use strata_grid::{Face, SurfaceMesh, Surfaces, layer_surfaces};
 use strata_lod::{BuildOptions, CellCover, LodFile, Options, build_file, decimate};
 use strata_render::glam::Vec3;
 use strata_render::{
@@ -238,8 +238,12 @@ fn a_hierarchy_selection_is_coloured_as_the_model_faces() {
         .selection_values(&roots, None)
         .expect("values")
         .expect("a property");
-    let original =
-        layer_surface(&grid, 0, Face::Top, Some("PORO"), file.origin()).expect("top surface");
+    let original = layer_surfaces(
+        &grid,
+        Face::Top,
+        &Surfaces::layer(0, file.origin()).property(Some("PORO")),
+    )
+    .expect("top surface");
     let values = TiledCells {
         values: &values,
         tile: file.tile_cells(),

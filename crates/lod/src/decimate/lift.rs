@@ -290,7 +290,7 @@ mod tests {
         use crate::measure::{GridLines, point_position};
         use std::collections::HashMap;
         use strata_grid::synth::{SynthParams, generate};
-        use strata_grid::{Face, layer_surface};
+        use strata_grid::{Face, Surfaces, layer_surfaces};
 
         let grid = generate(&SynthParams {
             nx: 40,
@@ -300,7 +300,12 @@ mod tests {
             seed: 7,
         })
         .unwrap();
-        let mesh = layer_surface(&grid, 0, Face::Top, Some("PORO"), grid.display_origin()).unwrap();
+        let mesh = layer_surfaces(
+            &grid,
+            Face::Top,
+            &Surfaces::layer(0, grid.display_origin()).property(Some("PORO")),
+        )
+        .unwrap();
         let (reference, vt) = Reference::with_vertex_triangles(&mesh).unwrap();
         let options = Options {
             z_scale: 5.0,

@@ -5,7 +5,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use rayon::prelude::*;
-use strata_grid::{CellFace, CornerPointGrid, Face, SurfaceMesh, layer_surface, side_surfaces};
+use strata_grid::{
+    CellFace, CornerPointGrid, Face, SurfaceMesh, Surfaces, layer_surfaces, side_surfaces,
+};
 
 use super::writer::{LayerCells, StoredNode, StoredTree, Writer};
 use crate::hierarchy::{build_layer_with, layer_work};
@@ -107,7 +109,10 @@ pub fn build_file(
     let built = |units: u64| tell(Progress::Worked(units));
     // The side faces of all layers at once, so that a vertex between two layers
     // averages the property over both, as `strata render --sides` draws it.
-    let sides = sides_by_layer(&side_surfaces(grid, 0..d.nz, property, origin)?, d.nz);
+    let sides = sides_by_layer(
+        &side_surfaces(grid, &Surfaces::new(0..d.nz, origin).property(property))?,
+        d.nz,
+    );
     let batch = batch_size(grid, options.memory)?;
     let mut writer = Writer::create(path)?;
     let mut report = BuildReport::default();
@@ -116,7 +121,8 @@ pub fn build_file(
         let built: Vec<BuiltSurface> = chunk
             .par_iter()
             .map(|&(k, face)| {
-                let mut mesh = layer_surface(grid, k, face, property, origin)?;
+                let mut mesh =
+                    layer_surfaces(grid, face, &Surfaces::layer(k, origin).property(property))?;
                 let cells = property.map(|_| LayerCells::of(&mesh, dims));
                 // The tree needs no cell faces: 24 bytes a cell less while it is built.
                 mesh.cell_faces = Vec::new();

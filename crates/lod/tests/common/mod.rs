@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 use strata_grid::synth::{SynthParams, generate};
-use strata_grid::{CornerPointGrid, Face, SurfaceMesh, layer_surface};
+use strata_grid::{CornerPointGrid, Face, SurfaceMesh, Surfaces, layer_surfaces};
 
 /// The shared real models, or `None` (with a message saying the test is skipped).
 pub fn shared_data(test: &str) -> Option<PathBuf> {
@@ -50,7 +50,12 @@ pub fn one_tile_top(stray: bool) -> SurfaceMesh {
 
 /// Top surface of layer `k` of `grid`, with PORO as scalar.
 pub fn layer(grid: &CornerPointGrid, k: usize) -> SurfaceMesh {
-    layer_surface(grid, k, Face::Top, Some("PORO"), grid.display_origin()).expect("layer surface")
+    layer_surfaces(
+        grid,
+        Face::Top,
+        &Surfaces::layer(k, grid.display_origin()).property(Some("PORO")),
+    )
+    .expect("layer surface")
 }
 
 /// Topology of a connected component: vertices, edges, triangles, boundary loops.
