@@ -98,15 +98,18 @@ const SAMPLES_PER_EDGE: usize = 4;
 
 /// What to run.
 pub struct Config {
-    pub budgets: &'static [f64],
+    /// Budgets of the fidelity rows, percent of the model's triangles.
+    budgets: &'static [f64],
     /// Views as (azimuth, elevation) in degrees.
-    pub views: &'static [(f32, f32)],
+    views: &'static [(f32, f32)],
     /// Triangle counts of the generated layers.
-    pub generated: &'static [usize],
+    generated: &'static [usize],
     /// Triangle counts of the generated layers whose hierarchies are compared.
-    pub hierarchy: &'static [usize],
+    hierarchy: &'static [usize],
 }
 
+/// The whole benchmark: five budgets, two views, generated layers of 0.5, 2 and 8
+/// million triangles, hierarchies on the 2-million one.
 pub const FULL: Config = Config {
     budgets: &[50.0, 20.0, 10.0, 5.0, 2.0],
     views: &[(30.0, 35.0), (210.0, 60.0)],
@@ -151,22 +154,33 @@ const GOAL_RATE: f64 = 1e6;
 /// What `--json` prints.
 #[derive(Debug, Serialize)]
 pub struct LodReport {
+    /// The GPU adapter that drew the frames, in words.
     pub adapter: String,
+    /// Cores available to the process: the threads of the all-cores speed rows.
     pub cores: usize,
+    /// Per real model, what keeping its layer outlines costs at the goal's budget.
     pub outlines: Vec<Outline>,
+    /// Per real model, simplifier and budget, in that order.
     pub fidelity: Vec<Fidelity>,
+    /// Per input (real models, then generated layers) and simplifier.
     pub speed: Vec<Speed>,
+    /// Per generated layer and hierarchy.
     pub hierarchy: Vec<HierarchyRow>,
+    /// The goals checked against the rows above.
     pub goals: Vec<Goal>,
     /// Peak resident memory of the run (VmHWM), MB.
     pub peak_memory_mb: f64,
+    /// The load average at start and end, models left out and why, rows over their
+    /// budget, layers whose budget is below their outline bound.
     pub notes: Vec<String>,
 }
 
 /// What keeping a real model's layer outlines costs, against the goal's budget.
 #[derive(Debug, Serialize)]
 pub struct Outline {
+    /// The model's label (`reek`, `spe9` ...).
     pub model: String,
+    /// Triangles of all its layer surfaces.
     pub triangles: usize,
     /// Corners of the outlines of all layer surfaces (`strata_lod::measure::outline_bound`).
     pub corners: usize,
@@ -177,6 +191,7 @@ pub struct Outline {
     /// Layer surfaces whose share of the 10 % budget is below their own
     /// `min_triangles`: there any simplifier must cut outline corners.
     pub layers_below: usize,
+    /// Layer surfaces of the model.
     pub layers: usize,
     /// Per layer surface (tops, then the bottom of the last), the fraction of it seen
     /// from around the model (`Renderer::visible_fractions`).
@@ -188,18 +203,28 @@ pub struct Outline {
 /// One model, simplifier and budget.
 #[derive(Debug, Serialize)]
 pub struct Fidelity {
+    /// The model's label.
     pub model: String,
+    /// Who decimated: `strata`, `strata_even`, `strata_alone`, `strata_optimal`,
+    /// `strata_cover`, or a meshopt simplifier's name (see the module's doc).
     pub simplifier: String,
+    /// The budget, percent of the model's triangles.
     pub budget_percent: f64,
+    /// Triangles of the original layer surfaces.
     pub triangles: usize,
     /// The budget in triangles, summed over the layer surfaces.
     pub budget_triangles: usize,
+    /// Triangles of the decimated layer surfaces.
     pub kept_triangles: usize,
-    /// Largest and RMS distance of the original grid lines (display units).
+    /// Largest distance of the original grid lines (4 points per cell edge) from the
+    /// decimated surface's point of the same texture coordinates, in display units
+    /// (metres, depth times [`Z_SCALE`]).
     pub line_max: f64,
+    /// RMS of the same distances over all samples of all layer surfaces.
     pub line_rms: f64,
-    /// The same over the model's extent.
+    /// `line_max` over the model's extent (its bounding box diagonal, depth scaled).
     pub line_max_rel: f64,
+    /// `line_rms` over the model's extent.
     pub line_rms_rel: f64,
     /// Share of samples whose texture coordinate the decimated surface no longer
     /// draws (outside its simplified boundary).
@@ -207,30 +232,49 @@ pub struct Fidelity {
     /// Layer surfaces that meshoptimizer decimated (`strata` only: under 1.5 times
     /// the outline bound).
     pub meshopt_layers: usize,
-    /// Worst view: F1 of line pixels within one pixel, strict F1, and RMS colour.
+    /// Worst view's F1 of the decimated frame's line pixels against the original's,
+    /// each matching within one pixel (0..1).
     pub f1: f64,
+    /// Worst view's F1 with pixels matching only where they are (0..1).
     pub f1_strict: f64,
+    /// Worst view's RMS colour difference of the shaded frames (0-255 per channel).
     pub rms_colour: f64,
+    /// Per view.
     pub views: Vec<ViewScore>,
 }
 
+/// One view's comparison of a decimated model's frames with the original's, at
+/// 1000 x 800 pixels.
 #[derive(Debug, Serialize)]
 pub struct ViewScore {
+    /// Camera azimuth, degrees.
     pub azimuth: f32,
+    /// Camera elevation, degrees.
     pub elevation: f32,
+    /// Share of the decimated frame's line pixels with an original one within one
+    /// pixel (0..1).
     pub precision: f64,
+    /// Share of the original's line pixels with a decimated one within one pixel.
     pub recall: f64,
+    /// Harmonic mean of `precision` and `recall` (0 where nothing was drawn).
     pub f1: f64,
+    /// The same with pixels matching only where they are.
     pub f1_strict: f64,
+    /// RMS colour difference of the shaded frames (0-255 per channel; NaN where
+    /// nothing was drawn).
     pub rms_colour: f64,
 }
 
 /// One input and simplifier at 10 %.
 #[derive(Debug, Serialize)]
 pub struct Speed {
+    /// The input: a real model's label, or `generated NxN`.
     pub input: String,
+    /// Triangles of the input, all its layer surfaces.
     pub triangles: usize,
+    /// Who decimated, named as in [`Fidelity`].
     pub simplifier: String,
+    /// Threads decimating the layer surfaces (1, or every core for ours).
     pub threads: usize,
     /// Samples taken ([`GOAL_SAMPLES`] for the rows the speed goal and the ratios rest
     /// on, else one); the row is the median sample by CPU time.
@@ -238,7 +282,9 @@ pub struct Speed {
     /// Runs measured together in that sample (inputs too small for one run to
     /// register on the CPU clock run again); the times below are per run.
     pub repeats: usize,
+    /// Wall seconds of one run (the sample's mean).
     pub seconds: f64,
+    /// CPU seconds of one run, user and system, all threads of the process.
     pub cpu_seconds: f64,
     /// The part of `cpu_seconds` spent in the kernel: mostly first touches of fresh
     /// memory, which cost several microseconds a page on a virtual machine.
@@ -259,6 +305,7 @@ pub struct Speed {
 /// One generated layer's top surface, drawn through a hierarchy.
 #[derive(Debug, Serialize)]
 pub struct HierarchyRow {
+    /// The generated layer, `generated NxN`.
     pub input: String,
     /// `strata` (`strata lod build`'s tiled quadtree), `meshopt_clusterlod`, or
     /// `meshopt_clusterlod_same_triangles` (its cut at as many triangles as ours).
@@ -272,38 +319,56 @@ pub struct HierarchyRow {
     pub build_cpu_seconds: f64,
     /// Full-resolution triangles of the surfaces built.
     pub built_triangles: usize,
+    /// Per view: the fidelity views of the whole layer, then the close-up.
     pub views: Vec<HierarchyView>,
 }
 
 /// What one hierarchy draws from one view at `HIERARCHY_PIXELS`.
 #[derive(Debug, Serialize)]
 pub struct HierarchyView {
+    /// The view: `AZIMUTH,ELEVATION whole`, or `30,20 close-up xZOOM`.
     pub view: String,
     /// Line pixels of the full-resolution surface from this view: where they cover
     /// most of the surface (a whole view of a large layer), F1 says little.
     pub line_pixels: usize,
+    /// Triangles the hierarchy's cut draws from this view.
     pub drawn_triangles: usize,
     /// Line pixels against the full-resolution surface's, as in [`Fidelity`].
     pub f1: f64,
+    /// The same with pixels matching only where they are.
     pub f1_strict: f64,
+    /// RMS colour difference of the shaded frames (0-255 per channel).
     pub rms_colour: f64,
 }
 
+/// Our decimation's stages (`strata_lod::Timings`): seconds of one run, summed over
+/// the layer surfaces.
 #[derive(Debug, Default, Serialize)]
 pub struct Stages {
+    /// Preparing the reference surface (triangle adjacency).
     pub reference: f64,
+    /// Quadrics, boundary and vertex lists.
     pub setup: f64,
+    /// Evaluating every edge, each pass.
     pub evaluate: f64,
+    /// Choosing and making the collapses, each pass.
     pub collapse: f64,
+    /// The final fit to the grid lines, where made.
     pub lift: f64,
+    /// The most passes any layer surface took.
     pub passes: usize,
 }
 
+/// One goal, and whether this run met it.
 #[derive(Debug, Serialize)]
 pub struct Goal {
+    /// What is measured, and on which model or input.
     pub goal: String,
+    /// The measured value: an F1 (0..1) or input triangles per CPU second.
     pub value: f64,
+    /// The least value that meets the goal.
     pub threshold: f64,
+    /// Whether `value` is at least `threshold`.
     pub met: bool,
 }
 
@@ -1306,6 +1371,8 @@ fn goals(fidelity: &[Fidelity], speed: &[Speed]) -> Vec<Goal> {
     out
 }
 
+/// Prints the report as tables: outlines, fidelity, speed, hierarchies, then the
+/// goals, peak memory and notes.
 pub fn print_table(report: &LodReport) {
     println!("{} ({} cores)", report.adapter, report.cores);
     println!(
