@@ -117,7 +117,8 @@ pub const FULL: Config = Config {
     hierarchy: &[2_000_000],
 };
 
-/// A few minutes: 10 % only, one view, the smallest generated layer.
+/// `--quick`, to try a change without the whole run: 10 % only, one view, the
+/// smallest generated layer.
 pub const QUICK: Config = Config {
     budgets: &[10.0],
     views: &[(30.0, 35.0)],
@@ -132,18 +133,19 @@ const GOAL_RATE_MIN_TRIANGLES: usize = 10_000;
 
 /// A speed row runs its input until it has taken at least this much CPU time (the
 /// process CPU clock counts in 10 ms ticks), at most `MAX_REPEATS` times (a bound
-/// for a clock that does not advance; simpleb8's 58 triangles need tens of thousands).
-/// Long enough that the generated 0.5-million-triangle layer's row is the mean of
-/// about three runs: single runs of it varied widely between bench runs on a shared
-/// 2-core machine (docs/performance.md, "How `bench lod` measures speed").
+/// for a clock that does not advance, well above the repeats the smallest real model
+/// needs). Long enough that the row of the generated 0.5-million-triangle layer is
+/// the mean of several runs, not one: single runs of it vary widely between bench runs
+/// on a shared machine (figures: docs/performance.md, "How `bench lod` measures
+/// speed").
 const MIN_CPU_SECONDS: f64 = 1.5;
 const MAX_REPEATS: usize = 100_000;
 
 /// Samples of the rows the speed goal and the ratios rest on (ours and
-/// meshopt_simplify, one thread): one run of the generated 1000 x 1000 layer takes
-/// longer than [`MIN_CPU_SECONDS`], so a single sample is a single run, and on a
-/// shared machine one run can be well slower than the next with the same code
-/// (docs/performance.md, "How `bench lod` measures speed").
+/// meshopt_simplify, one thread): a run of a large generated layer can outlast
+/// [`MIN_CPU_SECONDS`], so that its sample is a single run, and on a shared machine
+/// one run can be well slower than the next with the same code (figures:
+/// docs/performance.md, "How `bench lod` measures speed").
 const GOAL_SAMPLES: usize = 3;
 
 /// The budget the goals are stated at.
@@ -287,7 +289,8 @@ pub struct Speed {
     /// CPU seconds of one run, user and system, all threads of the process.
     pub cpu_seconds: f64,
     /// The part of `cpu_seconds` spent in the kernel: mostly first touches of fresh
-    /// memory, which cost several microseconds a page on a virtual machine.
+    /// memory, which a virtual machine makes costly (docs/performance.md, "How
+    /// `bench lod` measures speed").
     pub system_seconds: f64,
     /// Input triangles per wall second.
     pub triangles_per_s: f64,
@@ -1174,9 +1177,9 @@ fn measure_speed(
     let mut speed = Vec::new();
     for (label, layers) in &inputs {
         // One untimed run first. A fresh process's first run on a large input pays for
-        // the virtual machine backing its new memory, which is not decimation: it was
-        // measured with several times the system time of the next runs, and a lower
-        // rate (docs/performance.md).
+        // the virtual machine backing its new memory, which is not decimation: its
+        // system time and rate would skew the row (figures: docs/performance.md, "How
+        // `bench lod` measures speed").
         for layer in layers {
             Method::Strata.run(layer, budget_of(layer, GOAL_BUDGET / 100.0))?;
         }

@@ -150,8 +150,9 @@ impl Plan {
         }
     }
 
-    /// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up (under two
-    /// minutes on the development machine's CPU rasterizer).
+    /// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up, short enough
+    /// to try a change on a CPU rasterizer, where the full run takes far longer
+    /// (docs/performance.md, "Wireframe techniques").
     pub fn quick() -> Plan {
         Plan {
             sizes: vec![SIZES[2]],
