@@ -43,6 +43,8 @@ const MB: f64 = 1e6;
 /// What `strata bench io` measured; `--json` prints it as is.
 #[derive(Debug, Serialize)]
 pub struct IoReport {
+    /// One row per file read: the generated model as GRDECL and EGRID, then every grid
+    /// file of the data folder that our reader loaded.
     pub files: Vec<FileTiming>,
     /// How the numbers were taken and everything that was left out, and why.
     pub notes: Vec<String>,
@@ -57,10 +59,13 @@ pub struct FileTiming {
     pub format: &'static str,
     /// Size of the named file (INCLUDEd files not counted).
     pub bytes: u64,
+    /// Cells of the grid (nx * ny * nz, inactive ones included), as our reader loads it.
     pub cells: usize,
     /// Median seconds of our geometry-only read.
     pub strata_s: f64,
+    /// Our read throughput: `bytes` in MB (10^6 bytes) over `strata_s`.
     pub strata_mb_s: f64,
+    /// Our read throughput in cells per second: `cells` over `strata_s`.
     pub strata_cells_s: f64,
     /// Median seconds of resdata's load, `null` when it could not be timed.
     pub resdata_s: Option<f64>,
@@ -183,6 +188,7 @@ fn model_files(data_dir: &Path) -> Result<Vec<Input>> {
         .collect())
 }
 
+/// Whether `path`'s extension names a grid format we read (any case).
 fn is_grid_file(path: &Path) -> bool {
     path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
         ["egrid", "grdecl", "data"]
@@ -191,6 +197,7 @@ fn is_grid_file(path: &Path) -> bool {
     })
 }
 
+/// The report's name of `path`'s format.
 fn format_name(path: &Path) -> &'static str {
     match Format::from_path(path) {
         Format::Egrid => "egrid",
@@ -216,6 +223,7 @@ fn time_strata(path: &Path) -> strata_grid::Result<(f64, usize)> {
     Ok((median(&mut times), cells))
 }
 
+/// The median of `values` (the mean of the middle two for an even count); sorts them.
 fn median(values: &mut [f64]) -> f64 {
     values.sort_by(f64::total_cmp);
     let n = values.len();

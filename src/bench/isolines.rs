@@ -36,6 +36,9 @@ const FRAMES: usize = 7;
 /// One method's score and times.
 #[derive(Debug, Serialize)]
 pub struct Method {
+    /// The method: `texture` or `analytic` coverage on the fragment path, the same
+    /// with the isoline technique's range-adjust prepass `off` or `on`, or the
+    /// `marching triangles + lines` baseline.
     pub name: String,
     /// RMS coverage difference to the reference over surface pixels (0..1).
     pub rms: f64,
@@ -47,20 +50,31 @@ pub struct Method {
     pub extract_ms: Option<f64>,
 }
 
+/// What `strata bench isolines` measured; `--json` prints it as is.
 #[derive(Debug, Serialize)]
 pub struct Report {
+    /// The GPU adapter that drew the frames (name, backend, driver).
     pub adapter: String,
+    /// Frame width, pixels.
     pub width: u32,
+    /// Frame height, pixels.
     pub height: u32,
+    /// Triangles of the plane drawn.
     pub triangles: usize,
+    /// Polylines the marching-triangles baseline extracted (a circle cut by the
+    /// plane's edge may give several).
     pub isolines: usize,
+    /// Line width of every method and of the reference, pixels.
     pub sigma: f32,
+    /// Subsamples per pixel side of the reference coverage (this squared per pixel).
     pub subsamples: u32,
     /// The shaded surface alone, for the ratio of every method to it.
     pub surface_only_ms: f64,
+    /// One row per method, in the order above.
     pub methods: Vec<Method>,
 }
 
+/// The plane carrying f = x² + y², and the head-on view of it.
 fn scene() -> (SurfaceMesh, View) {
     let h = 2.0 / CELLS as f32;
     let mut mesh = SurfaceMesh::structured(CELLS, CELLS, |i, j| {
@@ -85,6 +99,7 @@ fn scene() -> (SurfaceMesh, View) {
     (mesh, view)
 }
 
+/// White lines of [`SIGMA`] px on a black surface, the isolines drawn or not.
 fn style(coverage: Coverage, isolines: bool) -> Style {
     Style {
         thickness: SIGMA,
@@ -184,6 +199,8 @@ fn score(rgba: &[u8], reference: &[f32], near: &[bool]) -> (f64, f64) {
     )
 }
 
+/// Milliseconds of the fastest of [`FRAMES`] frames of `items`, each waited for,
+/// after an untimed one.
 fn frame_ms(r: &mut Renderer, items: &[&dyn Drawable], view: &View, style: &Style) -> Result<f64> {
     r.draw(items, view, style)?;
     let times: Vec<f64> = (0..FRAMES)
@@ -196,6 +213,8 @@ fn frame_ms(r: &mut Renderer, items: &[&dyn Drawable], view: &View, style: &Styl
     Ok(times.into_iter().fold(f64::INFINITY, f64::min))
 }
 
+/// Runs the benchmark: every method's score against the reference and its frame
+/// time, on the headless renderer's adapter.
 pub fn run() -> Result<Report> {
     let (mesh, view) = scene();
     let iso = Isolines::new(SPACING);
@@ -285,6 +304,7 @@ pub fn run() -> Result<Report> {
     })
 }
 
+/// Prints the report as a table: the scene, then a row per method.
 pub fn print_table(report: &Report) {
     println!(
         "{} | {}x{} | {} triangles | {} polylines | sigma {} px | reference {}x{} subsamples | surface alone {:.1} ms",

@@ -79,7 +79,7 @@ use crate::metrics::{f1, line_mask};
 use strata_grid::synth::{SynthParams, generate};
 use strata_grid::{CornerPointGrid, Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces};
 use strata_lod::baseline::{ClusterLod, Simplifier, simplify, submesh};
-use strata_lod::measure::{OutlineBound, deviation, outline_bound};
+use strata_lod::measure::{Deviation, OutlineBound, deviation, outline_bound};
 use strata_lod::{
     BuildOptions, CellCover, Decimated, LodFile, Maker, Options, Placement, ViewPoint, build_file,
     decimate, decimate_chosen, share_surfaces,
@@ -98,15 +98,18 @@ const SAMPLES_PER_EDGE: usize = 4;
 
 /// What to run.
 pub struct Config {
-    pub budgets: &'static [f64],
+    /// Budgets of the fidelity rows, percent of the model's triangles.
+    budgets: &'static [f64],
     /// Views as (azimuth, elevation) in degrees.
-    pub views: &'static [(f32, f32)],
+    views: &'static [(f32, f32)],
     /// Triangle counts of the generated layers.
-    pub generated: &'static [usize],
+    generated: &'static [usize],
     /// Triangle counts of the generated layers whose hierarchies are compared.
-    pub hierarchy: &'static [usize],
+    hierarchy: &'static [usize],
 }
 
+/// The whole benchmark: five budgets, two views, generated layers of 0.5, 2 and 8
+/// million triangles, hierarchies on the 2-million one.
 pub const FULL: Config = Config {
     budgets: &[50.0, 20.0, 10.0, 5.0, 2.0],
     views: &[(30.0, 35.0), (210.0, 60.0)],
@@ -114,7 +117,8 @@ pub const FULL: Config = Config {
     hierarchy: &[2_000_000],
 };
 
-/// A few minutes: 10 % only, one view, the smallest generated layer.
+/// `--quick`, to try a change without the whole run: 10 % only, one view, the
+/// smallest generated layer.
 pub const QUICK: Config = Config {
     budgets: &[10.0],
     views: &[(30.0, 35.0)],
@@ -129,18 +133,19 @@ const GOAL_RATE_MIN_TRIANGLES: usize = 10_000;
 
 /// A speed row runs its input until it has taken at least this much CPU time (the
 /// process CPU clock counts in 10 ms ticks), at most `MAX_REPEATS` times (a bound
-/// for a clock that does not advance; simpleb8's 58 triangles need tens of thousands).
-/// Long enough that the generated 0.5-million-triangle layer's row is the mean of
-/// about three runs: single runs of it varied widely between bench runs on a shared
-/// 2-core machine (docs/performance.md, "How `bench lod` measures speed").
+/// for a clock that does not advance, well above the repeats the smallest real model
+/// needs). Long enough that the row of the generated 0.5-million-triangle layer is
+/// the mean of several runs, not one: single runs of it vary widely between bench runs
+/// on a shared machine (figures: docs/performance.md, "How `bench lod` measures
+/// speed").
 const MIN_CPU_SECONDS: f64 = 1.5;
 const MAX_REPEATS: usize = 100_000;
 
 /// Samples of the rows the speed goal and the ratios rest on (ours and
-/// meshopt_simplify, one thread): one run of the generated 1000 x 1000 layer takes
-/// longer than [`MIN_CPU_SECONDS`], so a single sample is a single run, and on a
-/// shared machine one run can be well slower than the next with the same code
-/// (docs/performance.md, "How `bench lod` measures speed").
+/// meshopt_simplify, one thread): a run of a large generated layer can outlast
+/// [`MIN_CPU_SECONDS`], so that its sample is a single run, and on a shared machine
+/// one run can be well slower than the next with the same code (figures:
+/// docs/performance.md, "How `bench lod` measures speed").
 const GOAL_SAMPLES: usize = 3;
 
 /// The budget the goals are stated at.
@@ -151,22 +156,33 @@ const GOAL_RATE: f64 = 1e6;
 /// What `--json` prints.
 #[derive(Debug, Serialize)]
 pub struct LodReport {
+    /// The GPU adapter that drew the frames, in words.
     pub adapter: String,
+    /// Cores available to the process: the threads of the all-cores speed rows.
     pub cores: usize,
+    /// Per real model, what keeping its layer outlines costs at the goal's budget.
     pub outlines: Vec<Outline>,
+    /// Per real model, simplifier and budget, in that order.
     pub fidelity: Vec<Fidelity>,
+    /// Per input (real models, then generated layers) and simplifier.
     pub speed: Vec<Speed>,
+    /// Per generated layer and hierarchy.
     pub hierarchy: Vec<HierarchyRow>,
+    /// The goals checked against the rows above.
     pub goals: Vec<Goal>,
     /// Peak resident memory of the run (VmHWM), MB.
     pub peak_memory_mb: f64,
+    /// The load average at start and end, models left out and why, rows over their
+    /// budget, layers whose budget is below their outline bound.
     pub notes: Vec<String>,
 }
 
 /// What keeping a real model's layer outlines costs, against the goal's budget.
 #[derive(Debug, Serialize)]
 pub struct Outline {
+    /// The model's label (`reek`, `spe9` ...).
     pub model: String,
+    /// Triangles of all its layer surfaces.
     pub triangles: usize,
     /// Corners of the outlines of all layer surfaces (`strata_lod::measure::outline_bound`).
     pub corners: usize,
@@ -177,6 +193,7 @@ pub struct Outline {
     /// Layer surfaces whose share of the 10 % budget is below their own
     /// `min_triangles`: there any simplifier must cut outline corners.
     pub layers_below: usize,
+    /// Layer surfaces of the model.
     pub layers: usize,
     /// Per layer surface (tops, then the bottom of the last), the fraction of it seen
     /// from around the model (`Renderer::visible_fractions`).
@@ -188,18 +205,28 @@ pub struct Outline {
 /// One model, simplifier and budget.
 #[derive(Debug, Serialize)]
 pub struct Fidelity {
+    /// The model's label.
     pub model: String,
+    /// Who decimated: `strata`, `strata_even`, `strata_alone`, `strata_optimal`,
+    /// `strata_cover`, or a meshopt simplifier's name (see the module's doc).
     pub simplifier: String,
+    /// The budget, percent of the model's triangles.
     pub budget_percent: f64,
+    /// Triangles of the original layer surfaces.
     pub triangles: usize,
     /// The budget in triangles, summed over the layer surfaces.
     pub budget_triangles: usize,
+    /// Triangles of the decimated layer surfaces.
     pub kept_triangles: usize,
-    /// Largest and RMS distance of the original grid lines (display units).
+    /// Largest distance of the original grid lines (4 points per cell edge) from the
+    /// decimated surface's point of the same texture coordinates, in display units
+    /// (metres, depth times [`Z_SCALE`]).
     pub line_max: f64,
+    /// RMS of the same distances over all samples of all layer surfaces.
     pub line_rms: f64,
-    /// The same over the model's extent.
+    /// `line_max` over the model's extent (its bounding box diagonal, depth scaled).
     pub line_max_rel: f64,
+    /// `line_rms` over the model's extent.
     pub line_rms_rel: f64,
     /// Share of samples whose texture coordinate the decimated surface no longer
     /// draws (outside its simplified boundary).
@@ -207,30 +234,49 @@ pub struct Fidelity {
     /// Layer surfaces that meshoptimizer decimated (`strata` only: under 1.5 times
     /// the outline bound).
     pub meshopt_layers: usize,
-    /// Worst view: F1 of line pixels within one pixel, strict F1, and RMS colour.
+    /// Worst view's F1 of the decimated frame's line pixels against the original's,
+    /// each matching within one pixel (0..1).
     pub f1: f64,
+    /// Worst view's F1 with pixels matching only where they are (0..1).
     pub f1_strict: f64,
+    /// Worst view's RMS colour difference of the shaded frames (0-255 per channel).
     pub rms_colour: f64,
+    /// Per view.
     pub views: Vec<ViewScore>,
 }
 
+/// One view's comparison of a decimated model's frames with the original's, at
+/// 1000 x 800 pixels.
 #[derive(Debug, Serialize)]
 pub struct ViewScore {
+    /// Camera azimuth, degrees.
     pub azimuth: f32,
+    /// Camera elevation, degrees.
     pub elevation: f32,
+    /// Share of the decimated frame's line pixels with an original one within one
+    /// pixel (0..1).
     pub precision: f64,
+    /// Share of the original's line pixels with a decimated one within one pixel.
     pub recall: f64,
+    /// Harmonic mean of `precision` and `recall` (0 where nothing was drawn).
     pub f1: f64,
+    /// The same with pixels matching only where they are.
     pub f1_strict: f64,
+    /// RMS colour difference of the shaded frames (0-255 per channel; NaN where
+    /// nothing was drawn).
     pub rms_colour: f64,
 }
 
 /// One input and simplifier at 10 %.
 #[derive(Debug, Serialize)]
 pub struct Speed {
+    /// The input: a real model's label, or `generated NxN`.
     pub input: String,
+    /// Triangles of the input, all its layer surfaces.
     pub triangles: usize,
+    /// Who decimated, named as in [`Fidelity`].
     pub simplifier: String,
+    /// Threads decimating the layer surfaces (1, or every core for ours).
     pub threads: usize,
     /// Samples taken ([`GOAL_SAMPLES`] for the rows the speed goal and the ratios rest
     /// on, else one); the row is the median sample by CPU time.
@@ -238,10 +284,13 @@ pub struct Speed {
     /// Runs measured together in that sample (inputs too small for one run to
     /// register on the CPU clock run again); the times below are per run.
     pub repeats: usize,
+    /// Wall seconds of one run (the sample's mean).
     pub seconds: f64,
+    /// CPU seconds of one run, user and system, all threads of the process.
     pub cpu_seconds: f64,
     /// The part of `cpu_seconds` spent in the kernel: mostly first touches of fresh
-    /// memory, which cost several microseconds a page on a virtual machine.
+    /// memory, which a virtual machine makes costly (docs/performance.md, "How
+    /// `bench lod` measures speed").
     pub system_seconds: f64,
     /// Input triangles per wall second.
     pub triangles_per_s: f64,
@@ -259,6 +308,7 @@ pub struct Speed {
 /// One generated layer's top surface, drawn through a hierarchy.
 #[derive(Debug, Serialize)]
 pub struct HierarchyRow {
+    /// The generated layer, `generated NxN`.
     pub input: String,
     /// `strata` (`strata lod build`'s tiled quadtree), `meshopt_clusterlod`, or
     /// `meshopt_clusterlod_same_triangles` (its cut at as many triangles as ours).
@@ -272,38 +322,56 @@ pub struct HierarchyRow {
     pub build_cpu_seconds: f64,
     /// Full-resolution triangles of the surfaces built.
     pub built_triangles: usize,
+    /// Per view: the fidelity views of the whole layer, then the close-up.
     pub views: Vec<HierarchyView>,
 }
 
 /// What one hierarchy draws from one view at `HIERARCHY_PIXELS`.
 #[derive(Debug, Serialize)]
 pub struct HierarchyView {
+    /// The view: `AZIMUTH,ELEVATION whole`, or `30,20 close-up xZOOM`.
     pub view: String,
     /// Line pixels of the full-resolution surface from this view: where they cover
     /// most of the surface (a whole view of a large layer), F1 says little.
     pub line_pixels: usize,
+    /// Triangles the hierarchy's cut draws from this view.
     pub drawn_triangles: usize,
     /// Line pixels against the full-resolution surface's, as in [`Fidelity`].
     pub f1: f64,
+    /// The same with pixels matching only where they are.
     pub f1_strict: f64,
+    /// RMS colour difference of the shaded frames (0-255 per channel).
     pub rms_colour: f64,
 }
 
+/// Our decimation's stages (`strata_lod::Timings`): seconds of one run, summed over
+/// the layer surfaces.
 #[derive(Debug, Default, Serialize)]
 pub struct Stages {
+    /// Preparing the reference surface (triangle adjacency).
     pub reference: f64,
+    /// Quadrics, boundary and vertex lists.
     pub setup: f64,
+    /// Evaluating every edge, each pass.
     pub evaluate: f64,
+    /// Choosing and making the collapses, each pass.
     pub collapse: f64,
+    /// The final fit to the grid lines, where made.
     pub lift: f64,
+    /// The most passes any layer surface took.
     pub passes: usize,
 }
 
+/// One goal, and whether this run met it.
 #[derive(Debug, Serialize)]
 pub struct Goal {
+    /// What is measured, and on which model or input.
     pub goal: String,
+    /// The measured value: an F1 (0..1) or input triangles per CPU second.
     pub value: f64,
+    /// The least value that meets the goal.
     pub threshold: f64,
+    /// Whether `value` is at least `threshold`.
     pub met: bool,
 }
 
@@ -623,338 +691,29 @@ impl Scene {
 pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<LodReport> {
     let mut renderer = Renderer::headless()?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let mut notes = vec![format!(
-        "load average at start: {}",
-        std::fs::read_to_string("/proc/loadavg")
-            .unwrap_or_default()
-            .trim()
-    )];
-    let mut fidelity = Vec::new();
-    let mut speed = Vec::new();
-
-    let mut models: Vec<(String, Vec<SurfaceMesh>)> = Vec::new();
-    if data_dir.is_dir() {
-        for m in &MODELS {
-            let path = data_dir.join(m.file);
-            let options = ReadOptions {
-                grid_only: m.grid_only,
-                ..ReadOptions::default()
-            };
-            match strata_grid::open_with(&path, &options) {
-                Ok(grid) => models.push((m.label.to_string(), surfaces(&grid)?)),
-                Err(e) => notes.push(format!("{}: not measured: {e}", path.display())),
-            }
-        }
-    } else {
-        notes.push(format!(
-            "{}: no such folder, real models skipped",
-            data_dir.display()
-        ));
-    }
+    let mut notes = vec![load_average("start")];
+    let models = read_models(data_dir, &mut notes)?;
 
     let mut outlines = Vec::new();
+    let mut fidelity = Vec::new();
     for (label, layers) in &models {
-        let visible = if layers.len() > 1 {
-            renderer.visible_fractions(&layers.iter().collect::<Vec<_>>(), Z_SCALE, None)?
-        } else {
-            vec![1.0; layers.len()]
-        };
-        let goal_split = targets(layers, &visible, GOAL_BUDGET / 100.0, false);
-        let bounds: Vec<(usize, OutlineBound)> = layers
-            .iter()
-            .zip(&goal_split)
-            .map(|(m, &budget)| (budget, outline_bound(m)))
-            .collect();
-        let outline = Outline {
-            model: label.clone(),
-            triangles: layers.iter().map(SurfaceMesh::triangle_count).sum(),
-            corners: bounds.iter().map(|(_, b)| b.corners).sum(),
-            min_triangles: bounds.iter().map(|(_, b)| b.min_triangles).sum(),
-            goal_budget_triangles: bounds.iter().map(|(n, _)| n).sum(),
-            layers_below: bounds.iter().filter(|(n, b)| *n < b.min_triangles).count(),
-            layers: layers.len(),
-            visible: visible.clone(),
-            goal_split,
-        };
-        if outline.layers_below > 0 {
-            notes.push(format!(
-                "{label}: at {GOAL_BUDGET} % the budget of {} of its {} layer surfaces is below the \
-                 triangles that keep their outline corners ({} triangles for {} corners in all, \
-                 budget {}): there every simplifier cuts corners of the outline, and the \
-                 lines it cuts inward are lost (the cell mask trims what it cuts outward)",
-                outline.layers_below,
-                outline.layers,
-                outline.min_triangles,
-                outline.corners,
-                outline.goal_budget_triangles
-            ));
-        }
+        let visible = visible_fractions(&mut renderer, layers)?;
+        let outline = outline_of(label, layers, &visible);
+        notes.extend(outline_note(&outline));
         outlines.push(outline);
-        let origin = layers.first().map_or([0.0; 3], |m| m.origin);
-        let original = append_all(layers, origin);
-        let Some(scene) = Scene::new(&original, config) else {
-            notes.push(format!("{label}: no triangle"));
-            continue;
-        };
-        let extent = {
-            let (lo, hi) = original.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
-            let d = [hi[0] - lo[0], hi[1] - lo[1], (hi[2] - lo[2]) * Z_SCALE];
-            f64::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-                .sqrt()
-                .max(f64::MIN_POSITIVE)
-        };
-        let reference = scene.draw(&mut renderer, &original.with_cell_values(), None)?;
-        // Each layer's cells, and one cover of the model's as its meshes are appended.
-        let layer_covers = layers
-            .iter()
-            .map(CellCover::of)
-            .collect::<strata_lod::Result<Vec<_>>>()?;
-        let mut cover = CellCover::default();
-        let mut first_piece = Vec::with_capacity(layers.len());
-        for c in &layer_covers {
-            first_piece.push(cover.pieces.len() as u32);
-            cover.append(c);
-        }
-        let values = if original.scalars.is_empty() {
-            None
-        } else {
-            let per_layer = layers
-                .iter()
-                .zip(&layer_covers)
-                .map(|(layer, c)| c.values(layer))
-                .collect::<strata_lod::Result<Vec<_>>>()?;
-            Some(per_layer.concat())
-        };
-        eprintln!(
-            "{label}: {} triangles in {} layer surfaces",
-            original.triangle_count(),
-            layers.len()
-        );
-        for method in Method::all() {
-            for &budget in config.budgets {
-                let split = targets(
-                    layers,
-                    &visible,
-                    budget / 100.0,
-                    method == Method::StrataEven,
-                );
-                let jobs: Vec<(&SurfaceMesh, usize)> = layers.iter().zip(split.clone()).collect();
-                let (decimated, by_meshopt): (Vec<Decimated>, Vec<bool>) =
-                    par_map(&jobs, cores, |&(m, target)| method.run(m, target))
-                        .into_iter()
-                        .collect::<Result<Vec<_>>>()?
-                        .into_iter()
-                        .unzip();
-                let mesh = append_all(
-                    &decimated.iter().map(|d| d.mesh.clone()).collect::<Vec<_>>(),
-                    origin,
-                );
-                let pairs: Vec<(&SurfaceMesh, &Decimated)> =
-                    layers.iter().zip(&decimated).collect();
-                let devs = par_map(&pairs, cores, |(o, d)| {
-                    deviation(o, &d.mesh, &d.home, SAMPLES_PER_EDGE, f64::from(Z_SCALE))
-                });
-                let samples: usize = devs.iter().map(|d| d.samples).sum();
-                let line_max = devs.iter().map(|d| d.max).fold(0.0, f64::max);
-                let line_rms = (devs
-                    .iter()
-                    .map(|d| d.rms * d.rms * d.samples as f64)
-                    .sum::<f64>()
-                    / samples.max(1) as f64)
-                    .sqrt();
-                let outside =
-                    devs.iter().map(|d| d.outside).sum::<usize>() as f64 / samples.max(1) as f64;
-                let frames = if mesh.is_empty() {
-                    None
-                } else {
-                    let mut pieces = Vec::with_capacity(mesh.vertex_count());
-                    for (((layer, c), d), first) in layers
-                        .iter()
-                        .zip(&layer_covers)
-                        .zip(&decimated)
-                        .zip(&first_piece)
-                    {
-                        // An unknown piece stays unknown, which the renderer refuses.
-                        pieces.extend(
-                            d.pieces(layer, c)
-                                .into_iter()
-                                .map(|p| p.saturating_add(*first)),
-                        );
-                    }
-                    // The layers' order in the depth test, as `render --lod` keeps it.
-                    let surface_push =
-                        stack_pushes(&devs.iter().map(|d| d.vertical as f32).collect::<Vec<_>>());
-                    let mut push = vec![None; cover.pieces.len()];
-                    for (k, &first) in first_piece.iter().enumerate() {
-                        let end = first_piece.get(k + 1).map_or(push.len(), |&e| e as usize);
-                        push[first as usize..end].fill(Some(surface_push[k]));
-                    }
-                    let cells = CellDraw {
-                        pieces: &pieces,
-                        cover: &cover,
-                        values: values.as_deref().map(TiledCells::boxes),
-                        corners: None,
-                        mask: true,
-                        wire: true,
-                        stacking: Some(Stacking { push: &push }),
-                    };
-                    Some(scene.draw(&mut renderer, &mesh, Some(&cells))?)
-                };
-                let views: Vec<ViewScore> = config
-                    .views
-                    .iter()
-                    .enumerate()
-                    .map(|(v, &(azimuth, elevation))| {
-                        let want = &reference[v];
-                        let (precision, recall, f, strict, rms) = match &frames {
-                            Some(f) => {
-                                let (p, r, f1v) = f1(&f[v].lines, &want.lines, WIDTH as usize, 1);
-                                let (_, _, s) = f1(&f[v].lines, &want.lines, WIDTH as usize, 0);
-                                (p, r, f1v, s, rms_colour(&f[v].shaded, &want.shaded))
-                            }
-                            None => (0.0, 0.0, 0.0, 0.0, f64::NAN),
-                        };
-                        ViewScore {
-                            azimuth,
-                            elevation,
-                            precision,
-                            recall,
-                            f1: f,
-                            f1_strict: strict,
-                            rms_colour: rms,
-                        }
-                    })
-                    .collect();
-                let row = Fidelity {
-                    model: label.clone(),
-                    simplifier: method.name().to_string(),
-                    budget_percent: budget,
-                    triangles: original.triangle_count(),
-                    budget_triangles: split.iter().sum(),
-                    kept_triangles: mesh.triangle_count(),
-                    line_max,
-                    line_rms,
-                    line_max_rel: line_max / extent,
-                    line_rms_rel: line_rms / extent,
-                    outside,
-                    meshopt_layers: by_meshopt.iter().filter(|&&b| b).count(),
-                    f1: views.iter().map(|v| v.f1).fold(1.0, f64::min),
-                    f1_strict: views.iter().map(|v| v.f1_strict).fold(1.0, f64::min),
-                    rms_colour: views.iter().map(|v| v.rms_colour).fold(0.0, f64::max),
-                    views,
-                };
-                eprintln!(
-                    "  {:<20} {:>5.1} %: {:>8} triangles, lines max {:.2e} rms {:.2e} of the extent, F1 {:.3} (strict {:.3}), RMS colour {:.2}",
-                    row.simplifier,
-                    budget,
-                    row.kept_triangles,
-                    row.line_max_rel,
-                    row.line_rms_rel,
-                    row.f1,
-                    row.f1_strict,
-                    row.rms_colour
-                );
-                fidelity.push(row);
+        match Original::new(&mut renderer, config, label, layers, visible)? {
+            Some(original) => {
+                fidelity.extend(original.fidelity_rows(&mut renderer, config, cores)?)
             }
+            None => notes.push(format!("{label}: no triangle")),
         }
     }
+    notes.extend(over_budget_notes(&fidelity));
 
-    for f in fidelity
-        .iter()
-        .filter(|f| f.kept_triangles > f.budget_triangles)
-    {
-        notes.push(format!(
-            "{} {} at {} %: {} triangles, over its budget of {}",
-            f.model, f.simplifier, f.budget_percent, f.kept_triangles, f.budget_triangles
-        ));
-    }
-
-    // Speed: real models (all layer surfaces) and generated layers.
-    let mut inputs: Vec<(String, Vec<SurfaceMesh>)> = models;
-    for &n in config.generated {
-        let (label, grid) = generated_layer(n)?;
-        inputs.push((label, vec![top_surface(&grid)?]));
-    }
-    for (label, layers) in &inputs {
-        let triangles: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
-        // One untimed run first. A fresh process's first run on a large input pays for
-        // the virtual machine backing its new memory, which is not decimation: it was
-        // measured with several times the system time of the next runs, and a lower
-        // rate (docs/performance.md).
-        for layer in layers {
-            Method::Strata.run(layer, budget_of(layer, GOAL_BUDGET / 100.0))?;
-        }
-        let mut runs: Vec<(Method, usize)> = Method::all().into_iter().map(|m| (m, 1)).collect();
-        if layers.len() > 1 && cores > 1 {
-            runs.push((Method::Ours(Placement::Surface), cores));
-        }
-        for (method, threads) in runs {
-            let goal_row = threads == 1
-                && matches!(
-                    method,
-                    Method::Strata | Method::Meshopt(Simplifier::Simplify)
-                );
-            let samples = (0..if goal_row { GOAL_SAMPLES } else { 1 })
-                .map(|_| speed_sample(layers, method, threads))
-                .collect::<Result<Vec<_>>>()?;
-            let count = samples.len();
-            let (median, [slowest, fastest]) = median_sample(samples);
-            let rate = |cpu: f64| triangles as f64 / cpu;
-            let row = Speed {
-                input: label.clone(),
-                triangles,
-                simplifier: method.name().to_string(),
-                threads,
-                samples: count,
-                repeats: median.repeats,
-                seconds: median.seconds,
-                cpu_seconds: median.cpu(),
-                system_seconds: median.system,
-                triangles_per_s: triangles as f64 / median.seconds,
-                triangles_per_cpu_s: rate(median.cpu()),
-                triangles_per_cpu_s_range: [rate(slowest), rate(fastest)],
-                per_cpu_s_over_meshopt_simplify: None,
-                stages: median.stages,
-            };
-            eprintln!(
-                "  {:<24} {:>9} triangles {:<20} {} thread(s), median of {} sample(s) of {} run(s): {:.3} s ({:.3} CPU s, {:.3} system) a run, {:.2} M/s, {:.2} M/CPU s ({:.2}-{:.2})",
-                row.input,
-                row.triangles,
-                row.simplifier,
-                threads,
-                row.samples,
-                row.repeats,
-                row.seconds,
-                row.cpu_seconds,
-                row.system_seconds,
-                row.triangles_per_s / 1e6,
-                row.triangles_per_cpu_s / 1e6,
-                row.triangles_per_cpu_s_range[0] / 1e6,
-                row.triangles_per_cpu_s_range[1] / 1e6
-            );
-            speed.push(row);
-        }
-        let simplify = Simplifier::Simplify.name();
-        let rows: Vec<&mut Speed> = speed.iter_mut().filter(|s| s.input == *label).collect();
-        if let Some(theirs) = rows
-            .iter()
-            .find(|s| s.simplifier == simplify && s.threads == 1)
-            .map(|s| s.triangles_per_cpu_s)
-        {
-            for row in rows {
-                row.per_cpu_s_over_meshopt_simplify = Some(row.triangles_per_cpu_s / theirs);
-            }
-        }
-    }
-
+    let speed = measure_speed(models, config, cores)?;
     let hierarchy = compare_hierarchies(&mut renderer, config, images)?;
     let goals = goals(&fidelity, &speed);
-    notes.push(format!(
-        "load average at end: {}",
-        std::fs::read_to_string("/proc/loadavg")
-            .unwrap_or_default()
-            .trim()
-    ));
+    notes.push(load_average("end"));
     notes.push(
         "CPU seconds are the process's (all threads); per-core rates divide input triangles by them. \
          Rates of tiny models (simpleb8) are dominated by fixed costs."
@@ -971,6 +730,552 @@ pub fn run(data_dir: &Path, config: &Config, images: Option<&Path>) -> Result<Lo
         peak_memory_mb: peak_memory_kb().map_or(f64::NAN, |kb| kb as f64 / 1e3),
         notes,
     })
+}
+
+/// The note of the machine's load average (`/proc/loadavg`) at `when`.
+fn load_average(when: &str) -> String {
+    format!(
+        "load average at {when}: {}",
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+    )
+}
+
+/// The layer surfaces of every model of [`MODELS`] under `data_dir`, with its label;
+/// a model that does not read, or a missing folder, is left out with a note.
+fn read_models(
+    data_dir: &Path,
+    notes: &mut Vec<String>,
+) -> Result<Vec<(String, Vec<SurfaceMesh>)>> {
+    let mut models = Vec::new();
+    if !data_dir.is_dir() {
+        notes.push(format!(
+            "{}: no such folder, real models skipped",
+            data_dir.display()
+        ));
+        return Ok(models);
+    }
+    for m in &MODELS {
+        let path = data_dir.join(m.file);
+        let options = ReadOptions {
+            grid_only: m.grid_only,
+            ..ReadOptions::default()
+        };
+        match strata_grid::open_with(&path, &options) {
+            Ok(grid) => models.push((m.label.to_string(), surfaces(&grid)?)),
+            Err(e) => notes.push(format!("{}: not measured: {e}", path.display())),
+        }
+    }
+    Ok(models)
+}
+
+/// Per layer surface, the fraction of it seen from around the model (all of it when
+/// there is one).
+fn visible_fractions(renderer: &mut Renderer, layers: &[SurfaceMesh]) -> Result<Vec<f64>> {
+    Ok(if layers.len() > 1 {
+        renderer.visible_fractions(&layers.iter().collect::<Vec<_>>(), Z_SCALE, None)?
+    } else {
+        vec![1.0; layers.len()]
+    })
+}
+
+/// What keeping the outlines of `layers` costs against the goal's budget, split by
+/// `visible` as the fidelity rows split it.
+fn outline_of(label: &str, layers: &[SurfaceMesh], visible: &[f64]) -> Outline {
+    let goal_split = targets(layers, visible, GOAL_BUDGET / 100.0, false);
+    let bounds: Vec<(usize, OutlineBound)> = layers
+        .iter()
+        .zip(&goal_split)
+        .map(|(m, &budget)| (budget, outline_bound(m)))
+        .collect();
+    Outline {
+        model: label.to_string(),
+        triangles: layers.iter().map(SurfaceMesh::triangle_count).sum(),
+        corners: bounds.iter().map(|(_, b)| b.corners).sum(),
+        min_triangles: bounds.iter().map(|(_, b)| b.min_triangles).sum(),
+        goal_budget_triangles: bounds.iter().map(|(n, _)| n).sum(),
+        layers_below: bounds.iter().filter(|(n, b)| *n < b.min_triangles).count(),
+        layers: layers.len(),
+        visible: visible.to_vec(),
+        goal_split,
+    }
+}
+
+/// The note of a model some of whose layer surfaces must lose outline corners at the
+/// goal's budget, if any must.
+fn outline_note(outline: &Outline) -> Option<String> {
+    (outline.layers_below > 0).then(|| {
+        format!(
+            "{}: at {GOAL_BUDGET} % the budget of {} of its {} layer surfaces is below the \
+             triangles that keep their outline corners ({} triangles for {} corners in all, \
+             budget {}): there every simplifier cuts corners of the outline, and the \
+             lines it cuts inward are lost (the cell mask trims what it cuts outward)",
+            outline.model,
+            outline.layers_below,
+            outline.layers,
+            outline.min_triangles,
+            outline.corners,
+            outline.goal_budget_triangles
+        )
+    })
+}
+
+/// A real model ready for its fidelity rows: its layer surfaces, the frames of the
+/// original, and its cells, which every decimated surface is drawn against.
+struct Original<'a> {
+    label: &'a str,
+    layers: &'a [SurfaceMesh],
+    /// Per layer surface, the fraction of it seen: how the budget is split.
+    visible: Vec<f64>,
+    /// The display origin of the first layer surface, shared by the appended meshes.
+    origin: [f64; 3],
+    /// The layer surfaces appended.
+    mesh: SurfaceMesh,
+    scene: Scene,
+    /// The bounding box diagonal, depth exaggerated: what the relative line distances
+    /// are over.
+    extent: f64,
+    /// The original's frames from the scene's views.
+    reference: Vec<Frames>,
+    cells: ModelCells,
+}
+
+impl<'a> Original<'a> {
+    /// The model of `layers`, its original drawn from the views of `config`; `None`
+    /// when it has no triangle.
+    fn new(
+        renderer: &mut Renderer,
+        config: &Config,
+        label: &'a str,
+        layers: &'a [SurfaceMesh],
+        visible: Vec<f64>,
+    ) -> Result<Option<Self>> {
+        let origin = layers.first().map_or([0.0; 3], |m| m.origin);
+        let mesh = append_all(layers, origin);
+        let Some(scene) = Scene::new(&mesh, config) else {
+            return Ok(None);
+        };
+        let extent = extent(&mesh);
+        let reference = scene.draw(renderer, &mesh.with_cell_values(), None)?;
+        let cells = ModelCells::of(layers, !mesh.scalars.is_empty())?;
+        eprintln!(
+            "{label}: {} triangles in {} layer surfaces",
+            mesh.triangle_count(),
+            layers.len()
+        );
+        Ok(Some(Original {
+            label,
+            layers,
+            visible,
+            origin,
+            mesh,
+            scene,
+            extent,
+            reference,
+            cells,
+        }))
+    }
+
+    /// Every simplifier's row at every budget of `config`, reported on stderr as
+    /// they come.
+    fn fidelity_rows(
+        &self,
+        renderer: &mut Renderer,
+        config: &Config,
+        cores: usize,
+    ) -> Result<Vec<Fidelity>> {
+        let mut rows = Vec::new();
+        for method in Method::all() {
+            for &budget in config.budgets {
+                let row = self.fidelity_row(renderer, config, cores, method, budget)?;
+                log_fidelity(&row);
+                rows.push(row);
+            }
+        }
+        Ok(rows)
+    }
+
+    /// `method`'s decimation of the model at `budget` percent of its triangles,
+    /// measured against the original: its grid lines' distances and its frames.
+    fn fidelity_row(
+        &self,
+        renderer: &mut Renderer,
+        config: &Config,
+        cores: usize,
+        method: Method,
+        budget: f64,
+    ) -> Result<Fidelity> {
+        let even = method == Method::StrataEven;
+        let split = targets(self.layers, &self.visible, budget / 100.0, even);
+        let (decimated, by_meshopt) = decimate_layers(self.layers, &split, method, cores)?;
+        let mesh = append_all(
+            &decimated.iter().map(|d| d.mesh.clone()).collect::<Vec<_>>(),
+            self.origin,
+        );
+        let devs = self.deviations(&decimated, cores);
+        let lines = LineDistances::of(&devs);
+        let frames = if mesh.is_empty() {
+            None
+        } else {
+            Some(self.draw_decimated(renderer, &mesh, &decimated, &devs)?)
+        };
+        let views = view_scores(config, &self.reference, frames.as_deref());
+        Ok(Fidelity {
+            model: self.label.to_string(),
+            simplifier: method.name().to_string(),
+            budget_percent: budget,
+            triangles: self.mesh.triangle_count(),
+            budget_triangles: split.iter().sum(),
+            kept_triangles: mesh.triangle_count(),
+            line_max: lines.max,
+            line_rms: lines.rms,
+            line_max_rel: lines.max / self.extent,
+            line_rms_rel: lines.rms / self.extent,
+            outside: lines.outside,
+            meshopt_layers: by_meshopt.iter().filter(|&&b| b).count(),
+            f1: views.iter().map(|v| v.f1).fold(1.0, f64::min),
+            f1_strict: views.iter().map(|v| v.f1_strict).fold(1.0, f64::min),
+            rms_colour: views.iter().map(|v| v.rms_colour).fold(0.0, f64::max),
+            views,
+        })
+    }
+
+    /// Per layer surface, its original grid lines measured on its decimation.
+    fn deviations(&self, decimated: &[Decimated], cores: usize) -> Vec<Deviation> {
+        let pairs: Vec<(&SurfaceMesh, &Decimated)> = self.layers.iter().zip(decimated).collect();
+        par_map(&pairs, cores, |(o, d)| {
+            deviation(o, &d.mesh, &d.home, SAMPLES_PER_EDGE, f64::from(Z_SCALE))
+        })
+    }
+
+    /// Frames of the decimated `mesh` (the layer surfaces' `decimated` appended) as
+    /// `render --lod` draws it: coloured cell by cell and trimmed to the original's
+    /// cells, the layer surfaces kept in their order in the depth test.
+    fn draw_decimated(
+        &self,
+        renderer: &mut Renderer,
+        mesh: &SurfaceMesh,
+        decimated: &[Decimated],
+        devs: &[Deviation],
+    ) -> Result<Vec<Frames>> {
+        let pieces = self.pieces(decimated, mesh.vertex_count());
+        let push = self.cells.pushes(devs);
+        let cells = CellDraw {
+            pieces: &pieces,
+            cover: &self.cells.cover,
+            values: self.cells.values.as_deref().map(TiledCells::boxes),
+            corners: None,
+            mask: true,
+            wire: true,
+            stacking: Some(Stacking { push: &push }),
+        };
+        self.scene.draw(renderer, mesh, Some(&cells))
+    }
+
+    /// Per vertex of the decimated layer surfaces appended (`vertices` in all), its
+    /// piece of the model's cover.
+    fn pieces(&self, decimated: &[Decimated], vertices: usize) -> Vec<u32> {
+        let mut pieces = Vec::with_capacity(vertices);
+        for (((layer, c), d), first) in self
+            .layers
+            .iter()
+            .zip(&self.cells.layers)
+            .zip(decimated)
+            .zip(&self.cells.first_piece)
+        {
+            // An unknown piece stays unknown, which the renderer refuses.
+            pieces.extend(
+                d.pieces(layer, c)
+                    .into_iter()
+                    .map(|p| p.saturating_add(*first)),
+            );
+        }
+        pieces
+    }
+}
+
+/// A model's cells as its decimated surfaces are drawn against them: each layer
+/// surface's cover, and one cover of the model's as its meshes are appended.
+struct ModelCells {
+    /// Per layer surface, its cells.
+    layers: Vec<CellCover>,
+    /// The layer surfaces' covers appended.
+    cover: CellCover,
+    /// Per layer surface, the index of its first piece in `cover`.
+    first_piece: Vec<u32>,
+    /// The cells' scalar values, piece by piece of `cover`, when the model has them.
+    values: Option<Vec<f32>>,
+}
+
+impl ModelCells {
+    /// The cells of `layers`, with their values when `with_values`.
+    fn of(layers: &[SurfaceMesh], with_values: bool) -> Result<Self> {
+        let layer_covers = layers
+            .iter()
+            .map(CellCover::of)
+            .collect::<strata_lod::Result<Vec<_>>>()?;
+        let mut cover = CellCover::default();
+        let mut first_piece = Vec::with_capacity(layers.len());
+        for c in &layer_covers {
+            first_piece.push(cover.pieces.len() as u32);
+            cover.append(c);
+        }
+        let values = if with_values {
+            let per_layer = layers
+                .iter()
+                .zip(&layer_covers)
+                .map(|(layer, c)| c.values(layer))
+                .collect::<strata_lod::Result<Vec<_>>>()?;
+            Some(per_layer.concat())
+        } else {
+            None
+        };
+        Ok(ModelCells {
+            layers: layer_covers,
+            cover,
+            first_piece,
+            values,
+        })
+    }
+
+    /// Per piece of the cover, the push of its layer surface in the depth test
+    /// (`stack_pushes` of the surfaces' vertical deviations), as `render --lod` keeps
+    /// the layers' order.
+    fn pushes(&self, devs: &[Deviation]) -> Vec<Option<f32>> {
+        let surface_push =
+            stack_pushes(&devs.iter().map(|d| d.vertical as f32).collect::<Vec<_>>());
+        let mut push = vec![None; self.cover.pieces.len()];
+        for (k, &first) in self.first_piece.iter().enumerate() {
+            let end = self
+                .first_piece
+                .get(k + 1)
+                .map_or(push.len(), |&e| e as usize);
+            push[first as usize..end].fill(Some(surface_push[k]));
+        }
+        push
+    }
+}
+
+/// The bounding box diagonal of `mesh` in the display frame (depth times
+/// [`Z_SCALE`]), never 0.
+fn extent(mesh: &SurfaceMesh) -> f64 {
+    let (lo, hi) = mesh.bounds().unwrap_or(([0.0; 3], [0.0; 3]));
+    let d = [hi[0] - lo[0], hi[1] - lo[1], (hi[2] - lo[2]) * Z_SCALE];
+    f64::from(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+        .sqrt()
+        .max(f64::MIN_POSITIVE)
+}
+
+/// `method`'s decimation of each of `layers` to its triangles of `split`, on `cores`
+/// threads, and whether meshoptimizer made it.
+fn decimate_layers(
+    layers: &[SurfaceMesh],
+    split: &[usize],
+    method: Method,
+    cores: usize,
+) -> Result<(Vec<Decimated>, Vec<bool>)> {
+    let jobs: Vec<(&SurfaceMesh, usize)> = layers.iter().zip(split.iter().copied()).collect();
+    Ok(par_map(&jobs, cores, |&(m, target)| method.run(m, target))
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip())
+}
+
+/// The original grid lines' distances over all layer surfaces.
+struct LineDistances {
+    /// Largest, display units.
+    max: f64,
+    /// RMS over all samples, display units.
+    rms: f64,
+    /// Share of the samples outside the decimated surfaces.
+    outside: f64,
+}
+
+impl LineDistances {
+    /// The layer surfaces' deviations together.
+    fn of(devs: &[Deviation]) -> Self {
+        let samples: usize = devs.iter().map(|d| d.samples).sum();
+        let max = devs.iter().map(|d| d.max).fold(0.0, f64::max);
+        let rms = (devs
+            .iter()
+            .map(|d| d.rms * d.rms * d.samples as f64)
+            .sum::<f64>()
+            / samples.max(1) as f64)
+            .sqrt();
+        let outside = devs.iter().map(|d| d.outside).sum::<usize>() as f64 / samples.max(1) as f64;
+        LineDistances { max, rms, outside }
+    }
+}
+
+/// Per view of `config`, the decimated `frames` (`None`: nothing drawn) against the
+/// original's `reference`.
+fn view_scores(config: &Config, reference: &[Frames], frames: Option<&[Frames]>) -> Vec<ViewScore> {
+    config
+        .views
+        .iter()
+        .enumerate()
+        .map(|(v, &(azimuth, elevation))| {
+            let want = &reference[v];
+            let (precision, recall, f, strict, rms) = match frames {
+                Some(f) => {
+                    let (p, r, f1v) = f1(&f[v].lines, &want.lines, WIDTH as usize, 1);
+                    let (_, _, s) = f1(&f[v].lines, &want.lines, WIDTH as usize, 0);
+                    (p, r, f1v, s, rms_colour(&f[v].shaded, &want.shaded))
+                }
+                None => (0.0, 0.0, 0.0, 0.0, f64::NAN),
+            };
+            ViewScore {
+                azimuth,
+                elevation,
+                precision,
+                recall,
+                f1: f,
+                f1_strict: strict,
+                rms_colour: rms,
+            }
+        })
+        .collect()
+}
+
+/// A fidelity row on stderr, as it comes.
+fn log_fidelity(row: &Fidelity) {
+    eprintln!(
+        "  {:<20} {:>5.1} %: {:>8} triangles, lines max {:.2e} rms {:.2e} of the extent, F1 {:.3} (strict {:.3}), RMS colour {:.2}",
+        row.simplifier,
+        row.budget_percent,
+        row.kept_triangles,
+        row.line_max_rel,
+        row.line_rms_rel,
+        row.f1,
+        row.f1_strict,
+        row.rms_colour
+    );
+}
+
+/// A note for every fidelity row with more triangles than its budget.
+fn over_budget_notes(fidelity: &[Fidelity]) -> Vec<String> {
+    fidelity
+        .iter()
+        .filter(|f| f.kept_triangles > f.budget_triangles)
+        .map(|f| {
+            format!(
+                "{} {} at {} %: {} triangles, over its budget of {}",
+                f.model, f.simplifier, f.budget_percent, f.kept_triangles, f.budget_triangles
+            )
+        })
+        .collect()
+}
+
+/// The speed rows: the real `models` (all their layer surfaces), then the generated
+/// layers of `config`.
+fn measure_speed(
+    models: Vec<(String, Vec<SurfaceMesh>)>,
+    config: &Config,
+    cores: usize,
+) -> Result<Vec<Speed>> {
+    let mut inputs = models;
+    for &n in config.generated {
+        let (label, grid) = generated_layer(n)?;
+        inputs.push((label, vec![top_surface(&grid)?]));
+    }
+    let mut speed = Vec::new();
+    for (label, layers) in &inputs {
+        // One untimed run first. A fresh process's first run on a large input pays for
+        // the virtual machine backing its new memory, which is not decimation: its
+        // system time and rate would skew the row (figures: docs/performance.md, "How
+        // `bench lod` measures speed").
+        for layer in layers {
+            Method::Strata.run(layer, budget_of(layer, GOAL_BUDGET / 100.0))?;
+        }
+        for (method, threads) in speed_runs(layers.len(), cores) {
+            let row = speed_row(label, layers, method, threads)?;
+            log_speed(&row);
+            speed.push(row);
+        }
+        set_ratios(&mut speed, label);
+    }
+    Ok(speed)
+}
+
+/// The rows timed on an input of `layers` surfaces: every method on one thread, and
+/// ours on all `cores` where there are several surfaces to share among them.
+fn speed_runs(layers: usize, cores: usize) -> Vec<(Method, usize)> {
+    let mut runs: Vec<(Method, usize)> = Method::all().into_iter().map(|m| (m, 1)).collect();
+    if layers > 1 && cores > 1 {
+        runs.push((Method::Ours(Placement::Surface), cores));
+    }
+    runs
+}
+
+/// `method` timed on the input `layers` in `threads`: the median of its samples
+/// ([`GOAL_SAMPLES`] for the rows the goal and the ratios rest on, else one).
+fn speed_row(label: &str, layers: &[SurfaceMesh], method: Method, threads: usize) -> Result<Speed> {
+    let triangles: usize = layers.iter().map(SurfaceMesh::triangle_count).sum();
+    let goal_row = threads == 1
+        && matches!(
+            method,
+            Method::Strata | Method::Meshopt(Simplifier::Simplify)
+        );
+    let samples = (0..if goal_row { GOAL_SAMPLES } else { 1 })
+        .map(|_| speed_sample(layers, method, threads))
+        .collect::<Result<Vec<_>>>()?;
+    let count = samples.len();
+    let (median, [slowest, fastest]) = median_sample(samples);
+    let rate = |cpu: f64| triangles as f64 / cpu;
+    Ok(Speed {
+        input: label.to_string(),
+        triangles,
+        simplifier: method.name().to_string(),
+        threads,
+        samples: count,
+        repeats: median.repeats,
+        seconds: median.seconds,
+        cpu_seconds: median.cpu(),
+        system_seconds: median.system,
+        triangles_per_s: triangles as f64 / median.seconds,
+        triangles_per_cpu_s: rate(median.cpu()),
+        triangles_per_cpu_s_range: [rate(slowest), rate(fastest)],
+        per_cpu_s_over_meshopt_simplify: None,
+        stages: median.stages,
+    })
+}
+
+/// A speed row on stderr, as it comes.
+fn log_speed(row: &Speed) {
+    eprintln!(
+        "  {:<24} {:>9} triangles {:<20} {} thread(s), median of {} sample(s) of {} run(s): {:.3} s ({:.3} CPU s, {:.3} system) a run, {:.2} M/s, {:.2} M/CPU s ({:.2}-{:.2})",
+        row.input,
+        row.triangles,
+        row.simplifier,
+        row.threads,
+        row.samples,
+        row.repeats,
+        row.seconds,
+        row.cpu_seconds,
+        row.system_seconds,
+        row.triangles_per_s / 1e6,
+        row.triangles_per_cpu_s / 1e6,
+        row.triangles_per_cpu_s_range[0] / 1e6,
+        row.triangles_per_cpu_s_range[1] / 1e6
+    );
+}
+
+/// Sets every row of the input `label` to its rate over meshopt_simplify's on one
+/// thread, where that row is there.
+fn set_ratios(speed: &mut [Speed], label: &str) {
+    let simplify = Simplifier::Simplify.name();
+    let rows: Vec<&mut Speed> = speed.iter_mut().filter(|s| s.input == label).collect();
+    if let Some(theirs) = rows
+        .iter()
+        .find(|s| s.simplifier == simplify && s.threads == 1)
+        .map(|s| s.triangles_per_cpu_s)
+    {
+        for row in rows {
+            row.per_cpu_s_over_meshopt_simplify = Some(row.triangles_per_cpu_s / theirs);
+        }
+    }
 }
 
 /// A generated faulted layer of about `n` triangles a surface, and its label.
@@ -1310,6 +1615,8 @@ fn goals(fidelity: &[Fidelity], speed: &[Speed]) -> Vec<Goal> {
     out
 }
 
+/// Prints the report as tables: outlines, fidelity, speed, hierarchies, then the
+/// goals, peak memory and notes.
 pub fn print_table(report: &LodReport) {
     println!("{} ({} cores)", report.adapter, report.cores);
     println!(
@@ -1559,5 +1866,66 @@ mod tests {
         assert!(ids.iter().all(|&id| id == caller), "{ids:?}");
         let ids = par_map(&[(); 4], 2, |_| std::thread::current().id());
         assert!(ids.iter().all(|&id| id != caller), "{ids:?}");
+    }
+    #[test]
+    fn line_distances_weigh_each_layer_surface_by_its_samples() {
+        let dev = |samples, max, rms, outside| Deviation {
+            samples,
+            max,
+            rms,
+            outside,
+            ..Deviation::default()
+        };
+        let lines = LineDistances::of(&[dev(3, 2.0, 0.0, 1), dev(1, 5.0, 4.0, 0)]);
+        assert_eq!(lines.max, 5.0);
+        // (3 * 0² + 1 * 4²) / 4 samples = 2²: each surface weighs by its samples.
+        assert_eq!(lines.rms, 2.0);
+        assert_eq!(lines.outside, 0.25);
+        let none = LineDistances::of(&[]);
+        assert_eq!((none.max, none.rms, none.outside), (0.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn speed_rows_are_rated_against_meshopt_simplify_on_one_thread_of_their_input() {
+        let speed = |input: &str, simplifier: &str, threads, rate| Speed {
+            input: input.into(),
+            triangles: 100,
+            simplifier: simplifier.into(),
+            threads,
+            samples: 1,
+            repeats: 1,
+            seconds: 1.0,
+            cpu_seconds: 1.0,
+            system_seconds: 0.0,
+            triangles_per_s: rate,
+            triangles_per_cpu_s: rate,
+            triangles_per_cpu_s_range: [rate, rate],
+            per_cpu_s_over_meshopt_simplify: None,
+            stages: None,
+        };
+        let mut rows = vec![
+            speed("a", "meshopt_simplify", 1, 4.0),
+            speed("b", "strata", 1, 1.0),
+            speed("b", "meshopt_simplify", 1, 2.0),
+            speed("b", "strata", 2, 3.0),
+        ];
+        set_ratios(&mut rows, "b");
+        let ratios: Vec<_> = rows
+            .iter()
+            .map(|r| r.per_cpu_s_over_meshopt_simplify)
+            .collect();
+        assert_eq!(ratios, [None, Some(0.5), Some(1.0), Some(1.5)]);
+    }
+
+    #[test]
+    fn ours_runs_on_every_core_only_where_several_surfaces_share_them() {
+        let all = |layers, cores| {
+            speed_runs(layers, cores)
+                .into_iter()
+                .filter(|&(_, threads)| threads > 1)
+                .count()
+        };
+        assert_eq!(speed_runs(1, 1).len(), Method::all().len());
+        assert_eq!((all(1, 8), all(5, 1), all(5, 8)), (0, 0, 1));
     }
 }

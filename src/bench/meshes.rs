@@ -14,14 +14,19 @@ use strata_grid::{Face, SurfaceMesh, Surfaces, layer_surfaces};
 /// The kinds of benchmark mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
+    /// A displaced sphere ([`sphere`]).
     Sphere,
+    /// A noisy terrain: a structured quad grid with global coordinates.
     Terrain,
+    /// A generated reservoir's layer surfaces ([`reservoir`]).
     Reservoir,
 }
 
 impl Kind {
+    /// Every kind, in the order of the reports.
     pub const ALL: [Kind; 3] = [Kind::Sphere, Kind::Terrain, Kind::Reservoir];
 
+    /// The kind's name in reports and on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Kind::Sphere => "sphere",
@@ -46,9 +51,11 @@ impl Kind {
 
 /// A benchmark mesh.
 pub struct BenchMesh {
+    /// What kind of mesh it is.
     pub kind: Kind,
     /// Name in reports: kind and size, e.g. `terrain-1m`.
     pub name: String,
+    /// The mesh itself.
     pub mesh: SurfaceMesh,
 }
 
@@ -134,7 +141,7 @@ pub fn sphere(triangles: usize) -> SurfaceMesh {
 
 /// A square structured grid of `n` x `n` cells of 10 m (2 n² triangles) with hills,
 /// ridges and steep small-scale roughness.
-pub fn terrain(triangles: usize) -> SurfaceMesh {
+fn terrain(triangles: usize) -> SurfaceMesh {
     let n = ((triangles as f64 / 2.0).sqrt().round() as usize).max(1);
     let cell = 10.0;
     let size = n as f32 * cell;

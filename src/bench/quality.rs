@@ -41,9 +41,13 @@ const SIGMAS: [f32; 3] = [1.0, 2.0, 3.0];
 /// What `--json` prints.
 #[derive(Debug, Serialize)]
 pub struct QualityReport {
+    /// The GPU adapter's name.
     pub adapter: String,
+    /// Its graphics API (`vulkan`, `metal`, `dx12`, `gl`), lower case.
     pub backend: String,
+    /// Samples per pixel of the exact reference coverage (16 x 16).
     pub samples_per_pixel: u32,
+    /// Per view, line width and technique.
     pub results: Vec<QualityResult>,
     /// Per technique and width, over all views' pixels together.
     pub summary: Vec<QualityResult>,
@@ -52,14 +56,24 @@ pub struct QualityReport {
     pub isolines: super::isolines::Report,
 }
 
+/// One technique's line coverage against the reference, at one width.
 #[derive(Debug, Serialize)]
 pub struct QualityResult {
+    /// The wireframe technique (`WireMode::name`), `-analytic` appended for analytic
+    /// coverage.
     pub technique: String,
     /// The view, or `all` in the summary.
     pub view: String,
+    /// Line width, pixels.
     pub sigma: f32,
+    /// RMS of (technique - reference) coverage (0..1) over the pixels where either
+    /// has some line; rounded to 4 decimals.
     pub rms: f64,
+    /// Fraction of edge pixels (`edge_pixels`) the technique leaves below 1/4
+    /// coverage: gaps, stippling, lost outer halves of outlines; 4 decimals.
     pub missing: f64,
+    /// Fraction of the technique's line pixels (coverage at least 1/2) where the
+    /// reference has none (below 1/20): hidden lines showing through; 4 decimals.
     pub extra: f64,
     /// Pixels with reference coverage of at least 3/4.
     pub edge_pixels: usize,
@@ -75,6 +89,7 @@ struct QualityView {
     view: View,
 }
 
+/// A flat 12 x 12 grid of 10 m cells centred on the origin.
 fn plane() -> SurfaceMesh {
     SurfaceMesh::structured(12, 12, |i, j| {
         [i as f32 * 10.0 - 60.0, j as f32 * 10.0 - 60.0, 0.0]
@@ -94,6 +109,7 @@ fn plane_view(tilt: f32) -> View {
     }
 }
 
+/// A camera fitted to `mesh` from (`azimuth`, `elevation`) degrees.
 fn fitted(mesh: &SurfaceMesh, z_scale: f32, azimuth: f32, elevation: f32) -> Result<View> {
     let (lo, hi) = mesh.bounds().context("empty quality mesh")?;
     let bounds = (Vec3::from(lo), Vec3::from(hi));
@@ -122,6 +138,7 @@ fn steep_terrain() -> SurfaceMesh {
     })
 }
 
+/// The fixed set of views, in the order of the report.
 fn views() -> Result<Vec<QualityView>> {
     let terrain = steep_terrain();
     let sphere = meshes::sphere(500);
@@ -221,6 +238,7 @@ impl Tally {
     }
 }
 
+/// `x` rounded to 4 decimals, as the report gives its fractions.
 fn round4(x: f64) -> f64 {
     (x * 1e4).round() / 1e4
 }

@@ -61,9 +61,9 @@ pub struct SceneTiming {
     pub next_frames_s: Vec<f64>,
     /// Seconds of the renderer drawing the same meshes for the same cameras.
     pub draw_frames_s: Vec<f64>,
-    /// Medians of the two.
+    /// Median of `next_frames_s` (the upper one of an even count), seconds.
     pub next_frame_median_s: f64,
-    /// Median of the renderer's own draws.
+    /// Median of `draw_frames_s`, likewise, seconds.
     pub draw_median_s: f64,
     /// Next frame over the renderer's draw (medians): 1 is the draw alone.
     pub next_over_draw: f64,
@@ -189,6 +189,7 @@ fn time_model(name: &str, source: ModelSource) -> Result<(SceneTiming, String)> 
     Ok((timing, adapter))
 }
 
+/// The median of `values` (the upper middle one of an even count), NaN when empty.
 fn median(values: &[f64]) -> f64 {
     let mut sorted = values.to_vec();
     sorted.sort_by(f64::total_cmp);

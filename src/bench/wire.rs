@@ -36,21 +36,34 @@ const ELEVATION: f32 = 30.0;
 /// What `--json` prints.
 #[derive(Debug, Serialize)]
 pub struct WireReport {
+    /// The GPU adapter's name.
     pub adapter: String,
+    /// Its graphics API (`vulkan`, `metal`, `dx12`, `gl`), lower case.
     pub backend: String,
+    /// Per mesh (sizes, then kinds, in the plan's order), upload and mode.
     pub results: Vec<WireResult>,
 }
 
 /// One mesh, mode and upload.
 #[derive(Debug, Serialize)]
 pub struct WireResult {
+    /// The mesh: kind and size label, e.g. `terrain-1m`.
     pub mesh: String,
+    /// Its triangles.
     pub triangles: usize,
+    /// The wireframe technique (`WireMode::name`, `none` for the shaded surface
+    /// alone), `-analytic` appended for the texture modes' analytic coverage.
     pub mode: String,
     /// `retained` or `immediate`.
     pub upload: &'static str,
+    /// Median frame time over the timed frames (each from a camera further round),
+    /// milliseconds to 3 decimals: GPU timestamps around the frame's commands for
+    /// `retained` where the adapter has them, else the wall clock around submit and
+    /// wait; for `immediate` the wall clock around upload, submit and wait.
     pub ms_median: f64,
+    /// The 10th percentile of the same frame times (interpolated between ranks), ms.
     pub ms_p10: f64,
+    /// The 90th percentile of the same frame times, ms.
     pub ms_p90: f64,
     /// Median over the median of `none` for the same mesh and upload (the cheaper of
     /// its two coverage forms, `none` and `none-analytic`).
@@ -109,10 +122,14 @@ fn variants(kind: Kind) -> Vec<Variant> {
 /// How much to run.
 #[derive(Clone, Debug)]
 pub struct Plan {
-    pub sizes: Vec<(usize, &'static str)>,
-    pub kinds: Vec<Kind>,
-    pub warmup: usize,
-    pub frames: usize,
+    /// Mesh sizes: triangles and label.
+    sizes: Vec<(usize, &'static str)>,
+    /// Mesh kinds, each at every size.
+    kinds: Vec<Kind>,
+    /// Untimed frames per mesh and upload before the timed ones.
+    warmup: usize,
+    /// Timed frames per mesh and upload.
+    frames: usize,
 }
 
 /// The sizes of the full benchmark, by label.
@@ -134,8 +151,9 @@ impl Plan {
         }
     }
 
-    /// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up (under two
-    /// minutes on the development machine's CPU rasterizer).
+    /// `--quick`: the 1 M reservoir, 4 timed frames after one of warm-up, short enough
+    /// to try a change on a CPU rasterizer, where the full run takes far longer
+    /// (docs/performance.md, "Wireframe techniques").
     pub fn quick() -> Plan {
         Plan {
             sizes: vec![SIZES[2]],
@@ -220,6 +238,8 @@ pub fn run(plan: &Plan) -> Result<WireReport> {
     })
 }
 
+/// Every variant's frame times on `bench`, retained then immediate: the frames go
+/// round the mesh, every variant drawing each camera in turn.
 fn time_mesh(
     renderer: &mut Renderer,
     timer: &FrameTimer,
@@ -310,6 +330,7 @@ fn time_mesh(
     Ok(results)
 }
 
+/// The median of `v` (interpolated for an even count); sorts it.
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     percentile(v, 0.5)
@@ -326,6 +347,7 @@ fn percentile(sorted: &[f64], q: f64) -> f64 {
     sorted[i] + f * (next - sorted[i])
 }
 
+/// `x` rounded to 3 decimals, as the report gives its times and ratios.
 fn round3(x: f64) -> f64 {
     (x * 1e3).round() / 1e3
 }
@@ -342,6 +364,7 @@ pub fn print_table(report: &WireReport) {
     }
 }
 
+/// One result as a line of the table.
 fn row(r: &WireResult) -> String {
     format!(
         "{:<16} {:>9} {:<16} {:<9} {:>10.1} {:>10.1} {:>10.1} {:>7.2}",
