@@ -12,7 +12,7 @@
 //!   [`save`] writes one in the format its extension names.
 //! * [`synth::generate`] makes a faulted, folded model of any size, deterministic by
 //!   seed, for tests, examples and benchmarks.
-//! * [`layer_surface`], [`layer_surfaces`] and [`side_surfaces`] turn cells into a
+//! * [`layer_surfaces`] and [`side_surfaces`], asked with [`Surfaces`], turn cells into a
 //!   [`SurfaceMesh`] whose global texture coordinates put every grid line on an odd
 //!   value, so the original wireframe survives decimation; [`terrain`] triangulates
 //!   scattered picks instead.
@@ -20,13 +20,14 @@
 //!
 //! ```
 //! use strata_grid::synth::{SynthParams, generate};
-//! use strata_grid::{Face, layer_surfaces, open, save, Surfaces};
+//! use strata_grid::{Face, Surfaces, layer_surfaces, open, save};
 //!
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! let grid = generate(&SynthParams { nx: 20, ny: 12, nz: 3, faults: 2, seed: 7 })?;
 //!
 //! // The top of the first layer, coloured by porosity, near the display origin.
-//! let top = layer_surfaces(&grid, Face::Top, &Surfaces::layer(0, grid.display_origin()).property(Some("PORO")))?;
+//! let layer = Surfaces::layer(0, grid.display_origin()).property(Some("PORO"));
+//! let top = layer_surfaces(&grid, Face::Top, &layer)?;
 //! top.validate().expect("a consistent mesh");
 //! // One quad (two triangles) per active cell of the layer: inactive cells are holes.
 //! assert_eq!(top.cell_faces.len(), grid.active_count_in(0, 0..12));

@@ -146,7 +146,7 @@ pub(crate) fn cell_corners(uv: [[f32; 2]; 3]) -> Option<([i32; 2], [usize; 3])> 
 
 impl CellCover {
     /// The cover of `mesh`, whose every triangle lies in one cell's square of texture
-    /// space (a surface made of cell faces, as [`strata_grid::layer_surface`] makes):
+    /// space (a surface made of cell faces, as [`strata_grid::layer_surfaces`] makes):
     /// an error names the first triangle that does not.
     pub fn of(mesh: &SurfaceMesh) -> Result<CellCover> {
         let n = mesh.vertex_count();
