@@ -25,8 +25,6 @@
 //! The crates underneath are re-exported: [`grid`] (the model, readers, layer
 //! surfaces), [`lod`] (decimation and hierarchies) and [`render`] (wgpu).
 
-#![warn(missing_docs)]
-
 pub use strata_grid as grid;
 pub use strata_lod as lod;
 pub use strata_render as render;

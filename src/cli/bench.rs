@@ -55,7 +55,7 @@ pub enum BenchCommand {
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
-        /// One 1M-triangle model and a few frames (under two minutes), not the full run.
+        /// One 1M-triangle model and a few frames, not the full run.
         #[arg(long)]
         quick: bool,
         /// Only these mesh sizes, in this order (0.1m, 0.4m, 1m, 4m; default: all).

@@ -52,8 +52,6 @@
 //! # }
 //! ```
 
-#![warn(missing_docs)]
-
 pub mod eclbin;
 mod error;
 pub mod grdecl;

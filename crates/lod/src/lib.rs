@@ -21,8 +21,28 @@
 //!   is seen.
 //! * [`measure`]: how far the simplified surface draws each texture coordinate from
 //!   where the original draws it.
-
-#![warn(missing_docs)]
+//!
+//! ```
+//! use strata_grid::synth::{SynthParams, generate};
+//! use strata_grid::{Face, Surfaces, layer_surfaces};
+//! use strata_lod::{Options, decimate};
+//!
+//! let grid = generate(&SynthParams { nx: 60, ny: 40, nz: 1, faults: 2, seed: 3 })?;
+//! let layer = Surfaces::layer(0, grid.display_origin()).property(Some("PORO"));
+//! let top = layer_surfaces(&grid, Face::Top, &layer)?;
+//! let simplified = decimate(&top, &Options::fraction(&top, 0.1))?;
+//! // A tenth of the triangles, each vertex still carrying the original surface's
+//! // global texture coordinates and porosity where it lies.
+//! assert!(simplified.mesh.triangle_count() <= top.triangle_count() / 10 + 2);
+//! assert_eq!(simplified.mesh.texcoords.len(), simplified.mesh.vertex_count());
+//! assert_eq!(simplified.mesh.scalars.len(), simplified.mesh.vertex_count());
+//! // The outline's corners stay: the texture coordinates still span the whole grid.
+//! let span = |mesh: &strata_grid::SurfaceMesh| {
+//!     mesh.texcoords.iter().fold([f32::MAX, f32::MIN], |[lo, hi], t| [lo.min(t[0]), hi.max(t[0])])
+//! };
+//! assert_eq!(span(&simplified.mesh), span(&top));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod baseline;
 mod choose;
