@@ -9,12 +9,11 @@
 //! surface draws the lines nearest to where the original does), spends the few
 //! triangles better. Running both there and keeping the one that drew the grid lines
 //! nearer (the RMS of [`GridLines::deviation`] as [`score`]d), meshoptimizer's won on
-//! every layer surface of the bench's models below its bound (at 50 to 2 %) but 2 of
-//! emerald's 57 and 2 of simpleb8's 14 (and 4 more of simpleb8's where its result was
-//! empty), and it cost emerald's layers at 10 % 32.5 ms instead of 11.4 ms (0.47
-//! instead of 1.33 M input triangles per second). Without the comparison, the bench's
-//! frames (worse of its two views, line-pixel F1) are the same to the third decimal
-//! but emerald's at 5 % (0.817 -> 0.813) and simpleb8's at 20 % (0.580 -> 0.601).
+//! nearly every layer surface of the bench's models below its bound, the comparison
+//! cost several times what ours alone does, and without it the bench's frames (worse
+//! of its two views, line-pixel F1) came out all but the same; so meshoptimizer's is
+//! taken there without one. The figures are in `docs/performance.md` ("Decimation
+//! internals").
 //!
 //! Just above the bound (under `MESHOPT_NEAR_BOUND` times it), ours keeps the
 //! outlines but has few triangles left for the surface inside them, and
@@ -26,12 +25,11 @@
 //! the decimation itself locates on its result (each among the triangles of the
 //! vertex it was merged into); elsewhere the fit's samples are two per cell edge,
 //! which [`GridLines::locate`] finds by a search of the whole result. On Reek's layers
-//! at 10 %, ours took 58 ms, the search's fit 21 ms more (sampling the lines 3.2 ms,
-//! locating the samples 13.1 ms, measuring them twice 1.7 ms, the fit 3.0 ms), the
-//! nodes' 5 ms; their frames had line-pixel F1 0.9866 and 0.9862 (`strata bench lod
-//! --quick`). Nodes and midpoints located by the decimation cost 11 ms for 0.9864.
-//! With [`Options::cover`] the search's samples stay: there they drew the lines
-//! nearer on the smallest model, simpleb8 at 10 %: 0.864 against 0.808 with nodes.
+//! the nodes' fit cost a fraction of the search's, and the bench's frames came out as
+//! well (line-pixel F1 within a thousandth, `strata bench lod --quick`); the edges'
+//! midpoints as well cost more for nothing. With [`Options::cover`] the search's
+//! samples stay: there they drew the lines nearer on the smallest model, simpleb8
+//! (figures: `docs/performance.md`, "Decimation internals").
 
 use std::time::Instant;
 
@@ -45,9 +43,9 @@ use crate::reference::{NONE, Reference};
 use crate::{Decimated, Options, Result};
 
 /// Points sampled along each original cell edge to fit meshoptimizer's result: a grid
-/// node and the edge's midpoint. Emerald at 10 % with the fit, 1, 2 and 4 samples per
-/// edge gave line-pixel F1 within 0.002 of each other; simpleb8 at 10 %, 0.406 with
-/// one and 0.430 with two.
+/// node and the edge's midpoint. More samples left emerald's line-pixel F1 where it
+/// was, and one alone lowered simpleb8's (`docs/performance.md`, "Decimation
+/// internals").
 const SAMPLES_PER_EDGE: usize = 2;
 
 /// Under this many times the outline bound, meshoptimizer's `simplify` fitted to the
@@ -55,27 +53,21 @@ const SAMPLES_PER_EDGE: usize = 2;
 /// on the outline's corners, while meshoptimizer's may cut one and give the surface
 /// inside what it saves. On the grid lines (two samples a cell edge, RMS distance as
 /// [`score`]d; meshoptimizer's is fitted to those samples, ours to the grid nodes),
-/// meshoptimizer's drew them nearer than ours on all 32 layer surfaces of the bench's
+/// meshoptimizer's drew them nearer than ours on every layer surface of the bench's
 /// models that `strata bench lod` decimates at 10 and 20 % to under 1.5 times their
-/// bound (Reek's inner layers at 10 %, 1.4 times theirs: 19-22 against 27-32 display
-/// units), and on 13 of the 17 between 1.5 and 2.5 times it. The bench's frames (worse of two
-/// views, line-pixel F1) at 50 to 2 %, with meshoptimizer's taken under 1, 1.5, 2 and
-/// 2.5 times the bound: Reek at 2 % 0.923, 0.941, 0.941, 0.941; emerald at 5 % 0.922,
-/// 0.923, 0.923, 0.923, at 10 % 0.957, 0.957, 0.951, 0.952; simpleb8 at 50 % 0.855,
-/// 0.878, 0.878, 0.878, and at 30, 32 and 36 of its 58 triangles (1, 1.1 and 1.2 times
-/// its bound) 0.863 -> 0.886, 0.863 -> 0.931, 0.887 -> 0.975; every other frame the
-/// same to the fourth decimal.
+/// bound, and on most of those between 1.5 and 2.5 times it. In the bench's frames
+/// (worse of two views, line-pixel F1, 50 to 2 %), taking it under 1.5 times the bound
+/// rather than 1 raised Reek's, emerald's and simpleb8's, and 2 or 2.5 raised none
+/// further (emerald's fell at 10 %). Figures: `docs/performance.md`, "Decimation
+/// internals".
 const MESHOPT_NEAR_BOUND: f64 = 1.5;
 
 /// Above the outline bound but under this many times it, ours is fitted too: its
 /// outline corners take most of the budget there, and the fit is what the surface
-/// inside them gets. The bench's frames (worse of two views, line-pixel F1) of ours
-/// fitted against ours alone: emerald at 20 % (1.27 times its bound) 0.933 -> 0.951,
-/// at 30 % (1.9) 0.969 -> 0.979, at 50 % (3.2) 0.994 -> 0.995; Reek at 10 % (2.0)
-/// 0.978 -> 0.986, at 20 % (3.9) 0.998 -> 0.999. Further from the bound the gain is
-/// a thousandth or less, and the fit still costs about 8 % of what ours does (generated
-/// 500 x 500 layer at 10 %, fitted at any budget: 1.14 -> 1.05 M input triangles per
-/// CPU second).
+/// inside them gets. In the bench's frames (worse of two views, line-pixel F1) the fit
+/// raised ours most near the bound, on emerald and Reek; further from it the gain was a
+/// thousandth or less, while the fit still costs a measurable share of what ours does.
+/// Figures: `docs/performance.md`, "Decimation internals".
 const FIT_NEAR_BOUND: f64 = 2.5;
 
 /// Who made a [`Chosen`] decimation.
@@ -113,8 +105,7 @@ pub struct Chosen {
 /// any target: the cell mask draws the outlines where their cells' texture
 /// coordinates fall, so moving outline vertices does not cut them, and the fit drew
 /// the lines nearer at every budget measured (bench frames, worse of two views,
-/// line-pixel F1: emerald at 20 % 0.931 -> 0.953, at 10 % 0.846 -> 0.911, at 5 %
-/// 0.730 -> 0.829; Reek at 10 % 0.981 -> 0.988, at 5 % 0.799 -> 0.826). With a finite
+/// line-pixel F1 on emerald and Reek; `docs/performance.md`). With a finite
 /// [`Options::max_error`], ours alone (meshoptimizer's error is another measure, and
 /// the fit moves vertices past it).
 pub fn decimate_chosen(mesh: &SurfaceMesh, options: &Options) -> Result<Chosen> {

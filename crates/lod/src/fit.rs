@@ -11,17 +11,15 @@
 //! the normal, within their collapse error) every vertex moves, outline vertices too
 //! (the two sides of a seam as one), in any direction: below the
 //! [`crate::measure::outline_bound`] outlines are cut anyway, and a vertex on a cut
-//! outline stands for a stretch of it. Measured on emerald's layers at 10 % (both of
-//! the bench's views, line-pixel F1): meshopt_simplify's 0.874 / 0.836 -> 0.904 /
-//! 0.907, ours 0.856 / 0.851 -> 0.879 / 0.902 (interior vertices alone: 0.874 / 0.836
-//! and 0.856 / 0.853); on simpleb8's, 0.295 / 0.460 -> 0.430 / 0.553 and 0.181 / 0.564
-//! -> 0.274 / 0.586. Above the bound it helps ours too (Reek at 10 %: 0.978 / 0.990 ->
-//! 0.987 / 0.997), at a cost in time that [`crate::decimate_chosen`] weighs. With
-//! [`crate::Options::cover`] the renderer's cell mask draws outlines where their cells'
-//! texture coordinates fall, which the fit does not move, and there it helps at every
-//! budget (Reek at 10 %, 0.981 / 0.991 -> 0.988 / 0.996). A fit costs about a fifth of
-//! what locating its samples by a search of the whole surface and measuring them does
-//! (Reek's layers at 10 %: 0.003 s against 0.014 s). Near its outline bound, ours is
+//! outline stands for a stretch of it. On emerald's and simpleb8's layers at 10 % the
+//! fit raised the bench's line-pixel F1 (both views) of meshopt_simplify's results and
+//! of ours, where moving the interior vertices alone did next to nothing. Above the
+//! bound it helps ours too, at a cost in time that [`crate::decimate_chosen`] weighs.
+//! With [`crate::Options::cover`] the renderer's cell mask draws outlines where their
+//! cells' texture coordinates fall, which the fit does not move, and there it helps at
+//! every budget. A fit costs a fraction of what locating its samples by a search of
+//! the whole surface and measuring them does. Figures: `docs/performance.md`
+//! ("Decimation internals"). Near its outline bound, ours is
 //! fitted to its input vertices, which it locates as it decimates
 //! ([`crate::decimate_chosen`]).
 
@@ -34,7 +32,7 @@ use crate::measure::Located;
 use crate::reference::{NONE, VertexTriangles, boundary_edges, triangle_adjacency};
 
 /// Most Gauss-Seidel sweeps; on emerald's layers the line-pixel F1 stopped changing
-/// after 4.
+/// well before this many (`docs/performance.md`).
 const MAX_SWEEPS: usize = 8;
 
 /// A sweep that moves no vertex further than this fraction of the surface's extent
@@ -65,7 +63,7 @@ pub fn fit(located: &Located, decimated: &mut Decimated, z_scale: f64, reach: f6
     // samples of `w_j w_k` and of `w_k x`, so that a sweep costs the triangles, not
     // the samples. Only samples the surface draws count: one outside it stands for a
     // stretch of line the surface lost, and pulling the outline towards those
-    // (at the nearest point drawn) took simpleb8's F1 at 10 % from 0.430 to 0.061.
+    // (at the nearest point drawn) ruined simpleb8's line-pixel F1 (`docs/performance.md`).
     let display = |p: [f64; 3]| [p[0], p[1], p[2] * z_scale];
     let mut normal_equations = vec![([[0.0; 3]; 3], [[0.0; 3]; 3]); mesh.triangle_count()];
     for s in located.samples.iter().filter(|s| s.inside) {

@@ -11,9 +11,9 @@
 //! drawn on them do not change.) A parent keeps a quarter of its children's triangles,
 //! or more where its locked border would take over a quarter of those: the border
 //! doubles at each level while the quarter stays, and a quarter in all left the
-//! inside of a node less and less, until errors leapt (a faulted 128 x 128 layer in
-//! tiles of 8: 45 m at level 2, 1 143 m at level 3 on cells of 34 m, against 1.2 m
-//! and 4.0 m so). With the default tiles of 64 cells that begins at level 4, in
+//! inside of a node less and less, until errors leapt (on a faulted 128 x 128 layer in
+//! tiles of 8, far over a cell from level 2; `docs/performance.md`, "Hierarchy build
+//! and view"). With the default tiles of 64 cells that begins at level 4, in
 //! layers over 1024 cells across.
 //! Over a flat stretch of layer with affine texture coordinates and scalar (the
 //! layers of a block-centred deck such as SPE10), where simplifying changes nothing,
@@ -28,9 +28,9 @@
 //! pixels, a layer is drawn from one of the chain's nodes. (Halves rather than the
 //! quadtree's quarters, and each from the root rather than from the node below,
 //! because on a generated 1000 x 1000 layer seen whole from two directions a chain of
-//! quarters each from the one below drew 3 595 and 2 247 triangles, this one 2 695
-//! and 1 348: a step of a quarter overshoots what a view needs by more, and errors
-//! summed up a chain exceed those measured once.)
+//! quarters each from the one below drew more triangles than this one
+//! (`docs/performance.md`): a step of a quarter overshoots what a view needs by more,
+//! and errors summed up a chain exceed those measured once.)
 //!
 //! Every vertex of every level lies on the original surface with the original
 //! surface's texture coordinates there (each node is simplified on the original layer
@@ -56,8 +56,8 @@ use crate::{Decimated, Error, MaybeIndex, Options, Reference, Result, decimate_o
 /// Error of a parent, in units in the last place of its largest coordinate
 /// (horizontal and vertical apart), under which its simplification changed nothing
 /// but the rounding of single-precision positions. At 1e-6 of its extent instead, a
-/// generated 2000 x 2000 layer let 176 nearly flat nodes through (2-6 mm off on
-/// nodes of 6.4 km) whose further collapses all failed and took a sixth more time.
+/// generated 2000 x 2000 layer let nearly flat nodes through whose further collapses
+/// all failed and cost time (`docs/performance.md`, "Hierarchy build and view").
 const UNCHANGED_ULPS: f32 = 8.0;
 
 /// The coarsest node of a layer has at most this many triangles, or is as small as
@@ -218,8 +218,8 @@ fn root_level(dims: [u32; 2], tile_cells: u32) -> u32 {
 
 /// Work of a parent node for a progress count, in leaves: a parent simplifies its
 /// children's triangles (about four leaves' worth at every level), a leaf only orders
-/// its own. Measured on a generated 2000 x 2000 layer (1024 leaf tiles, 341 parents):
-/// 1.5 s for the leaves, about 10 s for the parents.
+/// its own. The weight is a parent's time over a leaf's as measured on a generated
+/// layer (`docs/performance.md`, "Hierarchy build and view").
 const PARENT_WORK: u64 = 20;
 
 /// Units of work of building the quadtree of a layer of a grid of `dims` cells (as

@@ -375,15 +375,16 @@ pub struct Deviation {
 /// `CornerPointGrid::stray_corners`). Decimation leaves them out of the mean lengths
 /// that scale texture coordinates, scalar and ties: with them, a curved surface of
 /// 40 x 40 cells with one corner at a depth of 1e11, decimated to 10 %, drew its grid
-/// lines 2.83 from the original's (RMS), against 0.41 without them and 0.33 without
-/// the stray corner. [`GridLines`] leaves them out of the lines it samples, and a
+/// lines several times further from the original's (RMS) than without them, and
+/// without them nearly as near as with no stray corner at all. [`GridLines`] leaves
+/// them out of the lines it samples, and a
 /// simplified surface's triangles at a stray corner ([`Strays::holds`]) out of those
 /// that draw the samples: where a simplified surface draws a texture coordinate
 /// along a 1e11 m edge is no measure of the rest of it, and the top of a generated
-/// 40 x 30 x 3 model with such a corner had a `vertical` deviation of 5e11, which
-/// pushed every layer below it out of `render --lod`'s depth test. The real models in
-/// the project's data have no edge over 1.71 times their upper quartile, and measure
-/// and decimate as before.
+/// 40 x 30 x 3 model with such a corner had a `vertical` deviation of the corner's
+/// order, which pushed every layer below it out of `render --lod`'s depth test. The
+/// real models in the project's data have no edge near this bound, and measure and
+/// decimate as before (`docs/performance.md`, "Decimation internals").
 const STRAY_EDGE_QUARTILES: f64 = 1.0 + strata_grid::STRAY_SPREADS;
 
 /// Edges whose upper quartile [`STRAY_EDGE_QUARTILES`] is taken from: at most this
@@ -680,8 +681,9 @@ impl<'m> GridLines<'m> {
     pub fn locate(&self, simplified: &SurfaceMesh, home: &[u32], z_scale: f64) -> Located {
         let index = self.index(simplified, home);
         // Collected straight into one list, with room for all: the list is large
-        // (Reek's layers: 154 000 samples), and collecting each edge's samples,
-        // misses included, on their own first took a quarter of the time.
+        // (every sample of the surface's grid lines), and collecting each edge's
+        // samples, misses included, on their own first was measured much slower
+        // (`docs/performance.md`).
         let place = |edges: &[[u32; 3]], out: &mut Vec<LocatedSample>| {
             let mut found = Vec::new();
             for edge in edges {

@@ -43,7 +43,8 @@ pub(crate) struct Quadric {
 /// with zero gradient, at a corner of it), so `f32` holds them; written around the
 /// frame's origin they are sums of squared coordinates, which need `f64`. Half the
 /// bytes per vertex: the quadrics are most of the memory a decimation touches, and
-/// on a generated 2000 x 2000 layer page faults were a third of its time.
+/// on a generated 2000 x 2000 layer page faults took much of its time
+/// (`docs/performance.md`, "Decimation internals").
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Local {
     a: [f32; SYM],
@@ -107,8 +108,8 @@ impl Quadric {
 
     /// Squared distance to the plane of the triangle `p q r`, times `weight` (its
     /// area). Degenerate triangles give the zero quadric. Inlined: decimation's set-up
-    /// adds only its second-order part, and the rest is then never computed (set-up
-    /// of a generated 1000 x 1000 layer: 0.30 -> 0.24 s).
+    /// adds only its second-order part, and the rest is then never computed (a
+    /// measurably faster set-up, `docs/performance.md`).
     #[inline]
     pub fn triangle(p: &Point, q: &Point, r: &Point, weight: f64) -> Quadric {
         let sub = |x: &Point, y: &Point| -> Point { std::array::from_fn(|k| x[k] - y[k]) };
@@ -212,7 +213,8 @@ impl Quadric {
     /// What a value is divided by to make it an error: `w`, or 1 when nothing with
     /// an area was summed in. Choices of one quadric compare by value against a tie
     /// times this, and only the chosen one is divided (a division per candidate
-    /// placement took a sixth of the evaluation of Reek's edges).
+    /// placement was a noticeable share of the evaluation of Reek's edges;
+    /// `docs/performance.md`).
     #[inline]
     pub fn weight(&self) -> f64 {
         if self.w > 0.0 { self.w } else { 1.0 }

@@ -104,8 +104,8 @@ pub(crate) fn boundary_edges(
 /// Sequential: decimation runs in one thread (callers parallelise across meshes), so
 /// that its speed per core is what it seems.
 /// An edge's search fills both of its triangles, so each interior edge is searched
-/// once, not from both sides: the search was 5.7 % of a generated 500 x 500 layer's
-/// decimation to 10 % (callgrind).
+/// once, not from both sides: the search was a noticeable share of the instructions
+/// of a decimation (callgrind; `docs/performance.md`, "Decimation internals").
 pub(crate) fn triangle_adjacency(triangles: &[[u32; 3]], vt: &VertexTriangles) -> Vec<[u32; 3]> {
     /// Not searched yet.
     const UNKNOWN: u32 = NONE - 1;

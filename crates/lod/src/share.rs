@@ -6,8 +6,8 @@
 //! the first layer and the bottom of the last show whole, the tops between them
 //! mostly only at their rims. A budget split evenly spends most of it on what is not
 //! seen. Take a surface's error to fall as its triangles rise, e = c s / n for `s` input
-//! triangles and `n` kept (halving per doubling, as measured on emerald's layers:
-//! 5 % 143, 10 % 53, 20 % 28, 40 % 13 m), and the error a picture shows of it to scale
+//! triangles and `n` kept (halving per doubling, as measured on emerald's layers; see
+//! `docs/performance.md`), and the error a picture shows of it to scale
 //! with the part seen, the fraction `v`. The sum over surfaces of v e for a fixed sum
 //! of n is least where n is proportional to s times the square root of v: a surface
 //! seen at a quarter of its area keeps half the density of one seen whole, and
@@ -29,19 +29,14 @@ pub struct SurfaceShare {
 /// the measure barely show is still seen edge-on at its rim, where its outline and
 /// relief draw lines, or from elsewhere, or in a picture of its layer alone. Measured
 /// with `strata bench lod --quick` at 10 % (line-pixel F1, one view; the surfaces
-/// between top and bottom are seen at 0.2-0.6 % on Reek, 2.0-2.5 % on emerald):
-///
-/// | least fraction | Reek, ours | emerald, ours | emerald, ours with the cell mask |
-/// |---|---|---|---|
-/// | (split evenly) | 0.9862 | 0.9039 | 0.9106 |
-/// | 0.01 | 0.9851 | 0.9374 | 0.9586 |
-/// | 0.03 | 0.9952 | 0.9394 | 0.9555 |
-/// | 0.05 | 0.9966 | 0.9289 | 0.9526 |
-/// | 0.1 | 0.9966 | 0.9260 | 0.9327 |
+/// between top and bottom are seen at less than this on Reek and emerald) for least
+/// fractions of 0.01 to 0.1 and an even split: 0.03 drew emerald best and Reek and
+/// emerald with the cell mask nearly best, and every least fraction beat the even
+/// split on emerald (the table is in `docs/performance.md`, "Decimation internals").
 ///
 /// At 0.01 Reek's inner surfaces get about their outline bound and nothing more;
 /// from 0.05 on, meshoptimizer's `simplify_with_attributes` given the same split
-/// draws emerald's lines better than ours (0.9292).
+/// draws emerald's lines better than ours.
 pub const MIN_VISIBLE: f64 = 0.03;
 
 /// Splits `budget` triangles among `surfaces`: each keeps a share proportional to its

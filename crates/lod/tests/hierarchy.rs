@@ -975,7 +975,7 @@ fn small_tiles_whose_locked_borders_take_much_of_a_node_still_err_under_a_cell()
     // Tiles of 8 x 8 cells: a level-3 node's locked borders alone are half the
     // triangles a quarter of its children would leave it. They stay whole and the
     // inside keeps three quarters of that quarter: a quarter in all starved the inside
-    // of the nodes above level 1 (errors of 45 to 1 147 m on cells of 34 m).
+    // of the nodes above level 1 (errors of many cells; `docs/performance.md`).
     let (nx, ny) = (128, 128);
     let (_, mesh, tree) = layer_tree(nx, ny, 8);
     let (lo, hi) = mesh.bounds().unwrap();
@@ -1098,8 +1098,8 @@ fn over_a_layer_of_one_tile_the_chain_goes_down_to_the_coarsest_node() {
         // The error each node says holds on the grid lines. With the stray corner it
         // leaves out what reaches it: measured there, it was 1e11 from the fourth node
         // on, and no view chose those nodes. The lines next to it are then measured
-        // to the nearest of what the node draws, and lay up to 4 % further than the
-        // vertices the error is measured at.
+        // to the nearest of what the node draws, and lay a little further than the
+        // vertices the error is measured at (`docs/performance.md`).
         for n in &tree.nodes {
             let z_scale = 5.0;
             let d = deviation(mesh, &n.mesh, &n.home, 4, z_scale);

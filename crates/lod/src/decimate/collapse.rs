@@ -9,11 +9,9 @@ use crate::reference::NONE;
 /// A pass starts by renumbering the live vertices densely ([`Collapser::compact`])
 /// when fewer than this fraction (numerator, denominator) of the vertex slots are
 /// live: later passes then stream through arrays of live data only, instead of one
-/// live vertex in every few cache lines. Measured on generated layers to 10 %
-/// (never -> below 1/2 -> below 0.7 -> below 0.9): 1.96 -> 1.86 -> 1.82-1.85 ->
-/// 1.82-1.86 CPU s at 1000 x 1000 (collapse 0.62 -> 0.57 -> 0.52 -> 0.51-0.53 s,
-/// lift 0.17 -> 0.12 -> 0.11 s; the renumbering itself counts as evaluation),
-/// 9.34 -> 8.62 -> 8.56 CPU s at 2000 x 2000 (never, 0.7, 0.9).
+/// live vertex in every few cache lines. On generated layers to 10 %, renumbering
+/// below 1/2 live was faster than never, and below 0.7 or 0.9 (alike) faster still
+/// (`docs/performance.md`, "Decimation internals").
 pub(super) const COMPACT_BELOW: (usize, usize) = (7, 10);
 
 impl Collapser<'_> {

@@ -42,8 +42,8 @@ pub(super) struct Collapser<'a> {
     // Per vertex.
     /// The joint point, derivable from `position`, `texcoord` and `scalar` (it is
     /// exactly `Frame::point` of them) but kept: fetching it from one array was
-    /// measured faster than deriving it from three (generated 1000 x 1000 layer to
-    /// 10 %: evaluate 0.85 s against 1.03-1.14 s, collapse 1.5 s against 1.7-2.0 s).
+    /// measured faster than deriving it from three, in both the evaluate and the
+    /// collapse stage (`docs/performance.md`, "Decimation internals").
     pub(super) x: Vec<Point>,
     /// Each written around its vertex's `x` ([`Local`]), in single precision.
     pub(super) q: Vec<Local>,

@@ -28,7 +28,7 @@ pub(super) enum Choice {
     /// At texture coordinate `uv` of the reference surface, moved `lift` along the
     /// surface normal there (in the joint frame, z scaled). Single precision, as the
     /// vertex data it becomes: a pass holds a candidate per edge, and at 28 bytes
-    /// instead of 48 they take 40 % less memory to fill and stream.
+    /// instead of 48 they take much less memory to fill and stream.
     Point { uv: [f32; 2], lift: f32 },
 }
 
@@ -149,9 +149,9 @@ impl Collapser<'_> {
             // The plane's minimum is trusted within the disk on the edge, and only on the
             // triangle's own side of it: across the edge the surface follows the
             // neighbour's plane, and there the estimate is under the exact cost (on a
-            // generated layer, a third of a first pass's new points then failed the
-            // pass bound when tried). The minimum on the edge, in both planes, is the
-            // fallback.
+            // generated layer, many of a first pass's new points then failed the pass
+            // bound when tried; `docs/performance.md`). The minimum on the edge, in
+            // both planes, is the fallback.
             let third = self.tris[first as usize]
                 .into_iter()
                 .find(|&v| v != a && v != b)

@@ -114,8 +114,8 @@ impl Collapser<'_> {
     }
 
     /// [`Options::lift`], no vertex's quadric error going over `max_cost`. The samples
-    /// are the input's vertices ([`Collapser::samples_by_triangle`]; 0.6 % are left
-    /// out on a generated layer). Each interior vertex in turn moves
+    /// are the input's vertices ([`Collapser::samples_by_triangle`]; a few are left
+    /// out, `docs/performance.md`). Each interior vertex in turn moves
     /// along the original's normal at its texture point (that of its home triangle)
     /// to where the simplified surface, linear in its triangles, is nearest the
     /// samples in them (one Gauss-Seidel sweep of the least-squares fit), when that

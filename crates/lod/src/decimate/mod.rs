@@ -33,11 +33,11 @@
 //!   first, but in surface order where that is the same thing: a few rounds take the
 //!   edges that are the cheapest at both their ends in the order of the triangles,
 //!   block by block of neighbouring edges, then what is left goes by cost (on a
-//!   2M-triangle layer, whose vertex data no cache holds, the rounds halved the
-//!   collapse stage, and taking them block by block almost halved it again). Every
+//!   2M-triangle layer, whose vertex data no cache holds, the rounds and then the
+//!   blocks each made the collapse stage much faster; `docs/performance.md`). Every
 //!   check reads the triangles as they are at that moment, so the collapses of one
 //!   pass compose soundly. A greedy binary heap orders the collapses slightly better
-//!   but was measured 15-25 times slower here: every pop walks a heap of several
+//!   but was measured many times slower here: every pop walks a heap of several
 //!   megabytes that no cache holds, while a pass streams through flat arrays
 //!   (vertex-to-triangle lists in compressed rows, rebuilt between passes; the live
 //!   vertices renumbered densely once most are gone, and the data of the next

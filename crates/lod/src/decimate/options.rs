@@ -40,11 +40,11 @@ pub struct Options {
     /// moves its vertices too, but optimises texture coordinates as well, which moves
     /// grid lines off where the original draws them.) The reported error may grow
     /// (never past `max_error`): the fit leaves the quadrics' minima for the surface.
-    /// Measured on Reek's layers at 10 % (`strata bench lod --quick`, one view), line
-    /// pixel F1 with [`Placement::Surface`]: 0.967 without, 0.974 moving each vertex
-    /// to its own quadric's minimum on the normal (0.07 s of the 1.9 s of a generated
-    /// 1000 x 1000 layer), 0.978 with this fit (0.15 s); RMS line distance 1.18e-3,
-    /// 1.12e-3 and 1.06e-3 of the extent.
+    /// Measured on Reek's layers at 10 % (`strata bench lod --quick`, one view), with
+    /// [`Placement::Surface`]: moving each vertex to its own quadric's minimum on the
+    /// normal raised the line-pixel F1 and drew the lines nearer, and this fit did
+    /// both further, at a higher but still small share of a decimation's time
+    /// (`docs/performance.md`, "Decimation internals").
     pub lift: bool,
     /// Let outlines, holes and fault traces move only outward, over cells that the
     /// piece of surface they bound does not cover ([`crate::CellCover`]): a boundary vertex
@@ -112,10 +112,10 @@ impl Options {
 
     /// Keep `fraction` of the triangles of `mesh` with [`Options::cover`], weighted as
     /// measured best for it. No boundary planes: the renderer's mask draws the
-    /// outlines wherever the decimated ones lie. Half the texture weight: line-pixel
-    /// F1 at 10 % (`strata bench lod --quick`, both views), emerald 0.864 / 0.833 at
-    /// weight 1 against 0.865 / 0.846 at 0.5, Reek 0.980 / 0.992 against 0.981 /
-    /// 0.991; boundary weights of 0.25 to 4 gave emerald's second view 0.797-0.824.
+    /// outlines wherever the decimated ones lie. Half the texture weight: it raised
+    /// emerald's line-pixel F1 at 10 % (`strata bench lod --quick`, both views) and
+    /// left Reek's as it was, and every boundary weight tried lowered emerald's
+    /// (`docs/performance.md`, "Decimation internals").
     pub fn covering(mesh: &SurfaceMesh, fraction: f64) -> Self {
         Options {
             cover: true,

@@ -11,18 +11,18 @@ use crate::reference::NONE;
 /// How far ahead (in triangles) `Collapser::gather` asks for the vertex data it will
 /// evaluate. Its stream crosses a 4 KiB page every 17 quadrics, and hardware
 /// prefetchers stop at page boundaries: the loads of a new page's quadrics stalled
-/// the evaluation (three quarters of the time of summing two quadrics went to its first
-/// loads). Measured on generated layers to 10 %, evaluate stage, none -> 32 ahead:
-/// 0.80-0.82 -> 0.73-0.75 s at 1000 x 1000, 3.56-3.62 -> 3.29-3.31 s at 2000 x 2000;
-/// 4 to 128 ahead all gained, 16 to 64 the most.
+/// the evaluation (most of the time of summing two quadrics went to its first loads).
+/// Prefetching made the evaluate stage of generated layers measurably faster at every
+/// distance tried, most around this one (`docs/performance.md`, "Decimation
+/// internals").
 const PREFETCH_TRIANGLES: usize = 32;
 
 /// How far ahead (in collapses) a round of local minima asks for the data of the
 /// collapses it will try ([`Collapser::prefetch_collapse`]). Late passes collapse
 /// vertices whose homes lie far apart on the full-resolution reference surface, so
-/// each collapse began with misses there. Measured on generated layers to 10 %,
-/// collapse stage, none -> 8 ahead: 0.54-0.55 -> 0.47-0.49 s at 1000 x 1000,
-/// 2.89 -> 2.39-2.60 s at 2000 x 2000 (4 and 16 ahead the same).
+/// each collapse began with misses there. Prefetching made the collapse stage of
+/// generated layers measurably faster, alike at every distance tried
+/// (`docs/performance.md`, "Decimation internals").
 const PREFETCH_COLLAPSES: usize = 8;
 
 /// Asks for the cache lines of `item` ahead of its use (a no-op off x86-64).
@@ -52,15 +52,12 @@ fn prefetch<T>(item: &T) {
 /// (meshoptimizer's `kPassErrorBound` is 1.5). A pass still makes its cheapest
 /// collapses first; the bound only says how costly a collapse it may make at all, and
 /// a looser one leaves fewer for later passes, each of which evaluates every edge
-/// again. Generated 500 x 500 layer to 10 %, bound 1.5 -> 2.5 -> 3.0 -> 4.0: passes
-/// 6, 5, 5, 4; instructions (callgrind, two decimations) 8.00, 7.25, 7.13, 6.85 G;
-/// the original grid lines' RMS distance 1.927, 1.875, 1.852, 1.906 e-2, largest
-/// 0.141, 0.153, 0.154, 0.165. At 1000 x 1000 the bound never binds (the same result
-/// at all four). Reek's layers to 10 % (`decimate_chosen`): passes 7 -> 6,
-/// instructions 731 -> 685 M. `strata bench lod`, 1.5 -> 3.0: line-pixel F1 of Reek
-/// 0.9980 -> 0.9975 at 10 %, 0.9087 -> 0.9230 at 2 %, its lines' RMS distance 5 %
-/// more at 10 %; emerald 0.9571 -> 0.9565 at 10 %; simpleb8 0.217 -> 0.315 at 5 %,
-/// 0.230 -> 0.323 at 2 %; every other row within 0.001.
+/// again. On a generated 500 x 500 layer and on Reek's layers to 10 %, 3.0 took fewer
+/// passes and instructions (callgrind) than 1.5, the grid lines as near or nearer (RMS),
+/// and a looser 4.0 drew them further; on a 1000 x 1000 layer the bound never binds. In
+/// `strata bench lod` it raised the line-pixel F1 of Reek and simpleb8 at small budgets
+/// and left every other row within a thousandth (`docs/performance.md`, "Decimation
+/// internals").
 pub(super) const PASS_ERROR_BOUND: f64 = 3.0;
 
 /// Rounds of local minima per pass (`Collapser::local_round`); what they leave is
@@ -72,26 +69,20 @@ pub(super) const LOCAL_ROUNDS: usize = 4;
 /// The rounds run block by block: this many consecutive candidates (in gather order,
 /// so a neighbourhood of about 800 vertices, whose data fits in a core's own cache)
 /// take all their rounds before the next block starts. Rounds over the whole pass's
-/// candidates swept the mesh's vertex data from memory once per round. Measured on
-/// generated layers to 10 % (collapse stage, whole pass at once -> blocks of 1024):
-/// 1.03 -> 0.56-0.59 s at 1000 x 1000, 4.9 -> 3.1 s at 2000 x 2000; blocks of 256 to
-/// 8192 all gained, 512 to 1024 the most.
+/// candidates swept the mesh's vertex data from memory once per round. Blocks made
+/// the collapse stage of generated layers much faster at every size tried, most around
+/// this one (`docs/performance.md`, "Decimation internals").
 const BLOCK_CANDIDATES: usize = 1024;
 
 /// Meshes of more vertices than this (about 8 MB of vertex data) take the rounds;
 /// smaller ones go by cost alone, which orders collapses slightly better on small
-/// meshes (emerald's layers, 800 triangles each: RMS line error 4.55e-3 of the
-/// extent by cost, 4.89e-3 with rounds) and, where whole regions cost nothing, packs
-/// more collapses into a pass (ties go in index order, row by row). Beyond the
-/// caches, cost order jumps across the whole mesh. Generated layers to 10 %, seconds
-/// with rounds against cost order, one run:
-/// - faulted and curved, 200 x 200 (40 000 vertices): 0.097 against 0.137; 300 x 300
-///   (90 000, under the former bound of 100 000): 0.230 against 0.400, the original
-///   grid lines' RMS distance within 1 % either way;
-/// - flat, every collapse free: 200 x 200, 0.096 against 0.084-0.094; 300 x 300,
-///   0.152 against 0.124-0.146;
-/// - SPE10 model 2's layers (13 481 vertices, flat): 1.63 s against 0.95 s for all
-///   85, which this bound leaves to cost order.
+/// meshes (emerald's layers, 800 triangles each) and, where whole regions cost
+/// nothing, packs more collapses into a pass (ties go in index order, row by row).
+/// Beyond the caches, cost order jumps across the whole mesh. Generated layers to
+/// 10 %: faulted, curved ones of 40 000 and 90 000 vertices decimated faster with the
+/// rounds, the grid lines as near; flat ones, every collapse free, a little slower;
+/// SPE10 model 2's layers (13 481 vertices, flat), which this bound leaves to cost
+/// order, much slower (`docs/performance.md`, "Decimation internals").
 pub(super) const LOCAL_VERTICES: usize = 32_768;
 
 /// Rank of candidate `i`: its cost, then, for equal costs (flat, affine regions), a
@@ -106,19 +97,20 @@ fn rank(c: &Candidate, i: u32) -> (u32, u32) {
 /// bound comes from estimated costs, and a new point's estimate (the texture plane's
 /// linear model) can be well below its exact cost on the original surface where that
 /// curves: when such points make up the cheapest candidates, every pass sets the same
-/// bound from the same estimates and they fail again. Measured on a generated
-/// 2000 x 2000 layer to 10 %: passes 8 to 17 made 0.0-14 % of their goal, then an
-/// unbounded pass reached the target with error 2.4e-2; growing the bound instead
-/// takes 12 passes in all, 26 % less time, error 1.6e-3.
+/// bound from the same estimates and they fail again. On a generated 2000 x 2000
+/// layer to 10 %, the later passes made next to nothing of their goal, then an
+/// unbounded pass reached the target with a large error; growing the bound instead
+/// takes fewer passes and less time, with a far smaller error (`docs/performance.md`,
+/// "Decimation internals").
 ///
 /// A pass limited by its matching alone (both ends of a collapse are left alone for
-/// the rest of the pass) makes about 0.44 of its goal in a first pass (the generated
-/// 1000 x 1000 layer's top surface, Reek's layers) and more later; under a third it is
-/// short of cheap candidates that pass their checks. With 8 instead, the bottom
-/// surface of the bench's generated 1000 x 1000 layer (seed 5) to 10 % took 15 passes,
-/// the last eight making 31 % down to 12.5 % of their goal while the same cheap
-/// candidates folded or exceeded the bound in each; with 3, 10 passes, 11 % less time,
-/// the original grid lines' largest distance 1.38 -> 0.88 and RMS 0.052 -> 0.033.
+/// the rest of the pass) makes a little under half its goal in a first pass (the
+/// generated 1000 x 1000 layer's top surface, Reek's layers) and more later; under a
+/// third it is short of cheap candidates that pass their checks. With 8 instead, the
+/// bottom surface of the bench's generated 1000 x 1000 layer (seed 5) to 10 % took
+/// more passes, the last ones making ever less of their goal while the same cheap
+/// candidates folded or exceeded the bound in each; 3 took fewer passes and less
+/// time, and drew the original grid lines nearer (`docs/performance.md`).
 /// The layers of every real model and the generated layers' top surfaces decimate
 /// bit for bit as with 8.
 const STALL_DIVISOR: usize = 3;
@@ -158,7 +150,8 @@ pub(super) struct Scratch {
 /// comparison sort by `(cost, a, b)` would: a radix sort on the cost's bits (costs
 /// are never negative, so their bits order as they do), then each run of equal costs
 /// by its ends. A pass sorts nearly every edge of the mesh, and by comparisons that
-/// was 7 % of the instructions of Reek's layers' decimation (callgrind).
+/// was a noticeable share of the instructions of Reek's layers' decimation
+/// (callgrind; `docs/performance.md`, "Decimation internals").
 fn sort_by_cost(open: &mut Vec<u32>, candidates: &[Candidate], keyed: &mut [Vec<(u32, u32)>; 2]) {
     const DIGIT: u32 = 8;
     const BUCKETS: usize = 1 << DIGIT;

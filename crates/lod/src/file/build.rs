@@ -44,8 +44,8 @@ struct BuiltSurface {
 }
 
 /// Bytes one layer surface's hierarchy holds per active cell while it is built: the
-/// surface, its reference index and its tree. Measured: 9.9 GB over the grid for two
-/// surfaces of 33 M cells built at once (149 bytes a cell); rounded up.
+/// surface, its reference index and its tree: the measured need per cell, rounded up
+/// (`docs/performance.md`, "Hierarchy build and view").
 const BUILD_BYTES_PER_CELL: f64 = 160.0;
 
 /// How many layer surfaces to build at once: one per thread, fewer when `memory` (bytes)
