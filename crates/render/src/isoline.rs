@@ -42,7 +42,8 @@
 //! need no prepass. This technique samples the texture as the paper does, never finer
 //! than level 0, so that the adjust is what keeps the width: with
 //! [`RangeAdjust::Off`] the lines thicken where the field is flat (measured in
-//! tests/isolines.rs: 12.7 px instead of 2), with [`RangeAdjust::On`] they do not.
+//! tests/isolines.rs, to several times their width; `docs/performance.md`), with
+//! [`RangeAdjust::On`] they do not.
 
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;

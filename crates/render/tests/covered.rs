@@ -97,8 +97,8 @@ fn the_mask_draws_the_original_outline_on_a_decimated_surface() {
     let lines = |f: &Frame| f.count_above(0.5);
     // The lines' ink: their coverage summed over the frame. The top view puts many
     // edges half a pixel from pixel centres, where coverage sits at 0.5, so a count
-    // of pixels above 0.5 swings with rounding: 8782 -> 9080 on an NVIDIA H200 for
-    // the same ink within 0.05 %.
+    // of pixels above 0.5 swings with rounding: on an NVIDIA H200 by a few percent for
+    // nearly the same ink (docs/performance.md, "Test runs on a GPU").
     let ink = |f: &Frame| {
         let (n, mean) = f.surface_mean();
         n as f64 * mean

@@ -461,9 +461,10 @@ fn a_field_flat_at_a_line_value_shows_no_rounding_speckle_at_a_grazing_angle() {
     // Every value SPE9's layers carry, each a whole plane at one porosity: several
     // lie on a line's value up to f32 rounding. Before the rounding was allowed
     // for, these planes sprayed line pixels wherever the interpolated value rounded
-    // to within a pixel's gradient of the line (33 355 px on SPE9's render). And a
-    // structure map's depth, 2000 m on a 10 m line: interpolating the depth itself
-    // would round it 200 times coarser than its line coordinate.
+    // to within a pixel's gradient of the line (thousands of pixels on SPE9's render;
+    // docs/performance.md). And a structure map's depth, 2000 m on a 10 m line:
+    // interpolating the depth itself would round it 200 times coarser than its line
+    // coordinate.
     let flat = (8..=17)
         .map(|k| (0.01 * k as f32, porosity))
         .chain([(2000.0, Isolines::new(10.0))]);

@@ -386,7 +386,8 @@ fn tex_labels_irregular_meshes_and_report_duplication() {
         // the search (e.g. no reuse of earlier duplicates).
         assert!(*extra < 0.5, "{name}: {:.1}% extra vertices", 100.0 * extra);
         if name.starts_with("icosphere") {
-            // Breadth first: 7.6 % (the paper's depth-first order copied 42 %).
+            // Breadth first copies far fewer than the paper's depth-first order
+            // (docs/performance.md, "Wireframe techniques").
             assert!(
                 *extra < 0.15,
                 "{name}: {:.1}% extra vertices",

@@ -76,8 +76,9 @@ impl Renderer {
     /// the views frame what is in it, and triangles with a corner outside it are
     /// neither seen nor counted. A stray corner's faces run far out of every view:
     /// on a generated model of 40 x 30 x 3 cells with one corner at a depth of 1e11,
-    /// every surface came out 0 % seen (`render --lod` split its budget evenly), and
-    /// with the corner at 1e5 the top 100 % instead of 57 %.
+    /// no surface came out seen at all (`render --lod` split its budget evenly), and
+    /// with the corner at 1e5 the top, partly hidden, came out seen whole
+    /// (`docs/performance.md`, "Decimation internals").
     pub fn visible_fractions(
         &mut self,
         surfaces: &[&SurfaceMesh],

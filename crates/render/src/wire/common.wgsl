@@ -145,11 +145,10 @@ fn coverage_texture(x: f32, grad: f32, a: f32) -> f32 {
 // Which coverage a pipeline evaluates: 0 the texture, 1 analytic, 2 the one the frame
 // uniform names. The texture techniques build a pipeline per form (wire/mod.rs,
 // `texture_pipelines`) so that each shader holds one form: llvmpipe and lavapipe pay
-// for code under a uniform branch even when it is not taken. Measured on lavapipe, 1M-
-// triangle terrain, interleaved frames: `global` analytic 767 ms with both forms in
-// the shader, 375 ms with one; even the shaded-only frame pays for the texture taps
-// in its (disabled) isoline and grid-line branches: 503 ms with the texture form,
-// 353 ms with the analytic one.
+// for code under a uniform branch even when it is not taken. On lavapipe a shader
+// with both forms was measured much slower than one with one form, and even the
+// shaded-only frame paid for the texture taps in its (disabled) isoline and grid-line
+// branches (docs/performance.md, "Wireframe techniques").
 override COVERAGE_FORM: u32 = 2u;
 
 fn coverage(x: f32, grad: f32, a: f32) -> f32 {
@@ -225,15 +224,15 @@ fn extra_lines(wp: vec3<f32>, s: f32, a: f32) -> vec4<f32> {
 // Whether a pipeline draws isolines and grid lines at all. The texture techniques
 // build pipelines without them for frames that have none (wire/mod.rs,
 // `texture_pipelines`), for the reason of COVERAGE_FORM: the CPU rasterizers paid for
-// the disabled branches, texture taps included, in every frame (1M-triangle terrain,
-// lavapipe: the shaded-only frame 1.4 to 2 times slower with the texture form).
+// the disabled branches, texture taps included, in every frame (measured on
+// lavapipe; docs/performance.md, "Wireframe techniques").
 override EXTRA_LINES: bool = true;
 
 // How far interpolation rounds a line coordinate, relative to its magnitude: the
 // perspective-correct interpolation of three equal corners gives their value back
-// only to about 16 units in the last place. Measured on llvmpipe and lavapipe at a
-// grazing angle (tests/isolines.rs), planes flat at a line's value still show line
-// pixels with 1e-6 here and none from 2e-6; this is twice that. Where the coordinate
+// only to about 16 units in the last place. This is twice the least tolerance that left
+// planes flat at a line's value without line pixels, measured on llvmpipe and lavapipe at a
+// grazing angle (tests/isolines.rs; docs/performance.md, "Isolines"). Where the coordinate
 // changes less than this per pixel the field is flat: the next line would be tens of
 // thousands of pixels away, and none could be placed to a pixel.
 const ISO_NOISE: f32 = 4.0e-6;

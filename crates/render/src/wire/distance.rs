@@ -7,17 +7,16 @@
 //! take Gateau's path, which passes the visible parts of the edges as window lines.
 //!
 //! The paper does the per-triangle work in a geometry shader, which wgpu lacks. Two
-//! ways were measured (lavapipe, 1M triangles at 1000 x 800, interleaved frames; shaded
-//! only / compute prepass / vertex pulling): sphere 323 / 471 / 739 ms, terrain 355 /
-//! 478 / 791 ms, reservoir 223 / 349 / 584 ms. Pulling (a non-indexed draw whose vertex
-//! shader reads its whole triangle from storage) projects every corner three times in
-//! llvmpipe's single-threaded vertex stage; the compute prepass kept here projects each
-//! corner once, on the multi-threaded compute pool, and writes per corner its clip
-//! position and distances (times w, see distance.wgsl) and per triangle Gateau's lines,
-//! which the draw reads back. The hidden-line styles: TEHD and CEHD draw the polygons a
-//! second time behind the visible surface (depth test "farther", no depth writes) with
-//! only their edges, dashed; CEHS and CEHD keep the contour edges only, found per frame
-//! from the vertex across each edge.
+//! ways were measured on lavapipe, and the compute prepass was the faster on every
+//! mesh (`docs/performance.md`, "Wireframe techniques"). Pulling (a non-indexed draw whose
+//! vertex shader reads its whole triangle from storage) projects every corner three times
+//! in llvmpipe's single-threaded vertex stage; the compute prepass kept here projects each
+//! corner once, on the multi-threaded compute pool, and writes per corner its clip position
+//! and distances (times w, see distance.wgsl) and per triangle Gateau's lines, which the
+//! draw reads back. The hidden-line styles: TEHD and CEHD draw the polygons a second time
+//! behind the visible surface (depth test "farther", no depth writes) with only their
+//! edges, dashed; CEHS and CEHD keep the contour edges only, found per frame from the
+//! vertex across each edge.
 
 use std::sync::{Arc, Mutex, PoisonError};
 

@@ -4,8 +4,8 @@
 // wgpu has no geometry shader: a compute prepass does its per-triangle work, one
 // invocation per triangle, and writes each corner's clip position and distances; the
 // draw (3 T vertices, `vertex_index / 3` the triangle) reads them back. Doing the same
-// work in the vertex shader, each vertex pulling its whole triangle, was measured 1.6
-// to 1.7 times slower on llvmpipe / lavapipe (distance.rs).
+// work in the vertex shader, each vertex pulling its whole triangle, was measured
+// slower on llvmpipe / lavapipe (distance.rs; docs/performance.md).
 
 @group(1) @binding(2) var<storage, read> triangles: array<TriangleRecord>;
 

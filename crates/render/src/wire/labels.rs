@@ -8,12 +8,10 @@
 //! The paper searches depth first; we search breadth first. A depth-first walk runs
 //! off in a long thin path whose sides later close onto each other with labels that
 //! disagree, while a breadth-first front grows as a disc, labelling each triangle
-//! from two already labelled neighbours. Measured (tests/wire_modes.rs): on an
-//! icosphere of 4 subdivisions 7.6 % extra vertices against 42.0 % depth first; on
-//! Delaunay triangulations of 3000 random points 45.7 % and 46.4 % against 45.3 % and
-//! 45.9 %; none on structured meshes either way. On the 1 M-triangle sphere of
-//! `strata bench wire` that takes `tex` from 1.22 x to 1.15 x the shaded frame
-//! (analytic coverage, retained; lavapipe).
+//! from two already labelled neighbours. Measured (tests/wire_modes.rs): breadth first
+//! copies far fewer vertices on an icosphere, about as many on Delaunay
+//! triangulations, and none on structured meshes either way; on `strata bench wire`'s
+//! sphere it makes `tex` cheaper (`docs/performance.md`, "Wireframe techniques").
 
 use std::collections::{HashMap, VecDeque};
 

@@ -76,7 +76,7 @@ pub struct Registration {
     /// See [`WireMode::draws_alone`].
     pub draws_alone: bool,
     /// Peak memory per active cell: `strata render` measured on a 1300 x 1300 layer
-    /// on lavapipe, rounded up.
+    /// on lavapipe, rounded up (`docs/performance.md`, "Drawing in parts, and memory").
     pub bytes_per_cell: CellBytes,
     /// Builds the technique's pipelines.
     pub create: fn(&PipelineContext) -> Box<dyn Technique>,

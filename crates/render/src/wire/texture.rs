@@ -203,8 +203,8 @@ impl IndexedDraw {
 
     /// The vertices of `mesh` with their global coordinates, written straight into
     /// the vertex buffer. A part of a large model holds millions: made in a vector and
-    /// copied, they took 2.5 times as long to upload (0.72 against 0.29 s for the
-    /// 19.5 M triangles of a 1000 x 1000 x 10 model on lavapipe).
+    /// copied, they were measured much slower to upload on lavapipe
+    /// (`docs/performance.md`, "Wireframe techniques").
     pub fn of_mesh(
         gpu: &Gpu,
         pipelines: [wgpu::RenderPipeline; 4],
