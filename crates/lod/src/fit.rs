@@ -19,9 +19,8 @@
 //! cells' texture coordinates fall, which the fit does not move, and there it helps at
 //! every budget. A fit costs a fraction of what locating its samples by a search of
 //! the whole surface and measuring them does. Figures: `docs/performance.md`
-//! ("Decimation internals"). Near its outline bound, ours is
-//! fitted to its input vertices, which it locates as it decimates
-//! ([`crate::decimate_chosen`]).
+//! ("Decimation internals"). Near its outline bound, ours is fitted to its input
+//! vertices, which it locates as it decimates ([`crate::decimate_chosen`]).
 
 use strata_grid::SurfaceMesh;
 
