@@ -28,6 +28,12 @@ pub struct Scene {
     pub lod: Lod,
     /// Layers drawn, 1-based and inclusive; all when `None`.
     pub layers: Option<[usize; 2]>,
+    /// Range filter along I: columns of cells drawn, 1-based and inclusive; all when
+    /// `None`. The cells outside are left out and, with `sides`, the walls they leave
+    /// are drawn, the model cut open.
+    pub i: Option<[usize; 2]>,
+    /// Range filter along J, as `i`.
+    pub j: Option<[usize; 2]>,
     /// Also the drawn layers' side faces: the outer shell and fault walls.
     pub sides: bool,
     /// How the cells are coloured.
@@ -283,6 +289,8 @@ impl Default for Scene {
             model: None,
             lod: Lod::Full,
             layers: None,
+            i: None,
+            j: None,
             sides: false,
             colour: Colouring::default(),
             wire: WireStyle::default(),
@@ -367,10 +375,12 @@ impl Scene {
             }
             _ => {}
         }
-        if let Some([a, b]) = self.layers
-            && (a < 1 || a > b)
-        {
-            return bad(format!("layers [{a}, {b}]: 1-based, first <= last"));
+        for (name, range) in [("layers", self.layers), ("i", self.i), ("j", self.j)] {
+            if let Some([a, b]) = range
+                && (a < 1 || a > b)
+            {
+                return bad(format!("{name} [{a}, {b}]: 1-based, first <= last"));
+            }
         }
         let wire = &self.wire;
         if !(wire.thickness > 0.0 && wire.thickness.is_finite()) {
@@ -437,6 +447,27 @@ impl Scene {
                 "layers {a}..{b} are not within the model's 1..{nz}"
             ))),
         }
+    }
+}
+
+impl Scene {
+    /// The range filter's columns, 0-based and end-exclusive, of a model of `nx` x
+    /// `ny` columns; `None` when neither `i` nor `j` filters.
+    pub fn cut(&self, [nx, ny]: [usize; 2]) -> Result<Option<strata_grid::Columns>> {
+        if self.i.is_none() && self.j.is_none() {
+            return Ok(None);
+        }
+        let range = |name: &str, range: Option<[usize; 2]>, n: usize| match range {
+            None => Ok(0..n),
+            Some([a, b]) if a >= 1 && a <= b && b <= n => Ok(a - 1..b),
+            Some([a, b]) => Err(Error::scene(format!(
+                "cells {name} {a}..{b} are not within the model's 1..{n}"
+            ))),
+        };
+        Ok(Some(strata_grid::Columns {
+            i: range("I", self.i, nx)?,
+            j: range("J", self.j, ny)?,
+        }))
     }
 }
 
@@ -570,6 +601,8 @@ mod tests {
                 stitch: false,
             },
             layers: Some([2, 7]),
+            i: Some([3, 40]),
+            j: None,
             sides: true,
             colour: Colouring {
                 property: Some("PRESSURE".into()),

@@ -27,6 +27,9 @@ pub struct SceneOptions {
     /// Paint each cell flat with its value (per-face vertices) rather than smoothly
     /// with values averaged onto nodes.
     pub flat_cells: bool,
+    /// A range filter's columns (0-based): the cells outside are left out, and with
+    /// `sides` the walls they leave are drawn ([`Surfaces::cut`]); all when `None`.
+    pub cut: Option<Columns>,
 }
 
 /// The surfaces of `grid` for a view, in one mesh relative to the grid's display
@@ -284,21 +287,24 @@ pub fn build_part(
             Face::Top,
             &Surfaces::new(run.clone(), origin)
                 .property(property)
-                .columns(columns.clone()),
+                .columns(columns.clone())
+                .cut(options.cut.clone()),
         )?,
         Part::Band { layer, face, .. } => layer_surfaces(
             grid,
             *face,
             &Surfaces::layer(*layer, origin)
                 .property(property)
-                .columns(columns.clone()),
+                .columns(columns.clone())
+                .cut(options.cut.clone()),
         )?,
         Part::Bottom(k) => layer_surfaces(
             grid,
             Face::Bottom,
             &Surfaces::layer(*k, origin)
                 .property(property)
-                .columns(columns.clone()),
+                .columns(columns.clone())
+                .cut(options.cut.clone()),
         )?,
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
@@ -307,7 +313,8 @@ pub fn build_part(
                 &Surfaces::new(run.clone(), origin)
                     .property(property)
                     .columns(columns.clone())
-                    .among(scene),
+                    .among(scene)
+                    .cut(options.cut.clone()),
             )?
         }
     };
@@ -416,6 +423,10 @@ pub fn scene_extent(
     let tile = nx.max(ny).div_ceil(TILES_ACROSS).max(1);
     let tiles_across = nx.div_ceil(tile);
     let tile_rows = ny.div_ceil(tile);
+    let cut = options
+        .cut
+        .clone()
+        .unwrap_or_else(|| Columns::all(grid.dims()));
     let rows_done = AtomicUsize::new(0);
     let layer_faces: Vec<(usize, Face)> = layers
         .clone()
@@ -439,11 +450,11 @@ pub fn scene_extent(
                 }
             };
             let rows = tile_row * tile..((tile_row + 1) * tile).min(ny);
-            for j in rows.clone() {
+            for j in rows.clone().filter(|j| cut.j.contains(j)) {
                 for &(k, face) in &layer_faces {
                     visit_row_faces(
                         grid,
-                        [j, k],
+                        ([j, k], cut.i.clone()),
                         face,
                         origin,
                         |i, [sw, se, ne, nw], west_given| {
@@ -458,7 +469,9 @@ pub fn scene_extent(
                     // Which cells have faces, a row at a time: the row's, and the rows
                     // beside it, which say which of its sides are open.
                     let row = |j: usize| -> Vec<bool> {
-                        (0..nx).map(|i| has_faces(grid, i, j, k)).collect()
+                        (0..nx)
+                            .map(|i| cut.contains(i, j) && has_faces(grid, i, j, k))
+                            .collect()
                     };
                     let mut before = rows.start.checked_sub(1).map(row).unwrap_or_default();
                     let mut here = row(rows.start);
@@ -612,11 +625,11 @@ fn box_corners((lo, hi): ([f32; 3], [f32; 3]), z_scale: f32) -> [Vec3; 8] {
     })
 }
 
-/// Where `--centre` looks: the centre of cell `(i, j)`'s top face on the first of
-/// `layers` (all when `None`) whose surface has it, relative to `origin`.
+/// Where `--centre` looks: the centre of cell `(i, j)`'s top face on the first layer
+/// `options` draws whose surface has it (within its cut), relative to `origin`.
 pub fn column_top(
     grid: &CornerPointGrid,
-    layers: Option<Range<usize>>,
+    options: &SceneOptions,
     cell: [u32; 2],
     origin: [f64; 3],
 ) -> Result<[f32; 3]> {
@@ -627,9 +640,12 @@ pub fn column_top(
         i: i..i + 1,
         j: j..j + 1,
     };
-    let candidates = layers
+    let in_cut = options.cut.as_ref().is_none_or(|cut| cut.contains(i, j));
+    let candidates = options
+        .layers
+        .clone()
         .unwrap_or(0..nz)
-        .filter(|&k| grid.is_active(i, j, k))
+        .filter(|&k| in_cut && grid.is_active(i, j, k))
         .map(|k| {
             let face = layer_surfaces(
                 grid,
@@ -806,6 +822,7 @@ mod tests {
                 sides,
                 property: Some("PORO".into()),
                 flat_cells: true,
+                cut: None,
             };
             let (whole, _) = build(&grid, &options).expect("the scene");
             assert!(whole.triangle_count() > 10_000);
@@ -851,7 +868,7 @@ mod tests {
                 Ok(layer.cell_centre(cell))
             });
             let whole = first_face_centre(cell, [d.nx, d.ny], on_layers);
-            let alone = column_top(&grid, None, cell, origin);
+            let alone = column_top(&grid, &SceneOptions::default(), cell, origin);
             match (whole, alone) {
                 (Ok(a), Ok(b)) => {
                     assert_eq!(a, b, "{cell:?}");
@@ -862,7 +879,8 @@ mod tests {
             }
         }
         assert!(found > 200, "{found} centres");
-        let beyond = column_top(&grid, None, [70, 3], origin).expect_err("off the model");
+        let beyond = column_top(&grid, &SceneOptions::default(), [70, 3], origin)
+            .expect_err("off the model");
         assert!(beyond.to_string().contains("70 x 45 columns"), "{beyond}");
     }
 
@@ -880,7 +898,7 @@ mod tests {
         let parts = parts(&grid, &options, 900).expect("the parts");
         let framing = Framing::new(1.0, 1.5, (30.0, 60.0));
         let extent = scene_extent(&grid, &options, origin, framing, None).expect("the extent");
-        let centre = column_top(&grid, None, [30, 20], origin).expect("a face");
+        let centre = column_top(&grid, &SceneOptions::default(), [30, 20], origin).expect("a face");
         let camera = extent.framing.camera(0.1).centred_on(Vec3::from(centre));
         let columns = extent.columns_in_view(&camera, 1.5);
         assert!(

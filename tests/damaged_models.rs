@@ -75,6 +75,7 @@ fn survive(path: &Path, what: &str) -> Result<Read, String> {
             sides: true,
             property: grid.property("PORO").map(|_| "PORO".to_string()),
             flat_cells: false,
+            cut: None,
         };
         let Ok((surfaces, _)) = build_stacked_surfaces(&grid, &scene) else {
             return Ok(refused);

@@ -258,3 +258,92 @@ fn a_report_step_and_a_colour_range_colour_the_cells() {
         "{said}"
     );
 }
+
+/// The faces a range filter keeps of the sample, counted cell by cell from the grid:
+/// the layer surfaces' faces in the cut (every top, and the last layer's bottom), and
+/// the side faces open once the cells outside the cut count as absent.
+fn faces_in_cut(cut: &strata::grid::Columns) -> (usize, usize) {
+    use strata::grid::{Face, has_faces, open_sides, side_face_corners, surface_face_corners};
+    let grid = strata::grid::open(&sample()).expect("the sample");
+    let d = grid.dims();
+    let origin = grid.display_origin();
+    let kept = |i: usize, j: usize, k: usize| cut.contains(i, j) && has_faces(&grid, i, j, k);
+    let cells = |k: usize| {
+        cut.j
+            .clone()
+            .flat_map(move |j| cut.i.clone().map(move |i| [i, j, k]))
+    };
+    let surfaces = (0..d.nz)
+        .map(|k| (k, Face::Top))
+        .chain([(d.nz - 1, Face::Bottom)]);
+    let layer_faces = surfaces
+        .flat_map(|(k, face)| cells(k).map(move |c| (c, face)))
+        .filter(|&(c, face)| surface_face_corners(&grid, c, face, origin).is_some())
+        .count();
+    let side_faces = (0..d.nz)
+        .flat_map(cells)
+        .filter(|&[i, j, k]| kept(i, j, k))
+        .map(|[i, j, k]| {
+            let open = open_sides(&grid, [i, j, k], |i, j| kept(i, j, k));
+            (0..4)
+                .filter(|&s| open[s] && side_face_corners(&grid, [i, j, k], s, origin).1)
+                .count()
+        })
+        .sum();
+    (layer_faces, side_faces)
+}
+
+#[test]
+fn a_range_filter_cuts_the_model_open() {
+    let cut = strata::grid::Columns { i: 7..30, j: 4..18 };
+    let (layer_faces, side_faces) = faces_in_cut(&cut);
+    let scene = small(Scene {
+        i: Some([8, 30]),
+        j: Some([5, 18]),
+        ..Scene::of_model(sample())
+    });
+    let mut engine = SceneRenderer::new(scene.clone()).expect("a scene");
+    let tops = engine.render().expect("a frame");
+    assert_eq!(tops.report.triangles, 2 * layer_faces);
+    let with_sides = Scene {
+        sides: true,
+        ..scene.clone()
+    };
+    engine.set_scene(with_sides.clone()).expect("sides");
+    let walls = engine.render().expect("a frame");
+    assert_eq!(walls.report.triangles, 2 * (layer_faces + side_faces));
+    // The cut's own walls: more side faces than the same columns have uncut.
+    let whole = SceneRenderer::new(small(Scene {
+        sides: true,
+        ..Scene::of_model(sample())
+    }))
+    .and_then(|mut e| e.render())
+    .expect("the whole model");
+    assert!(walls.report.triangles < whole.report.triangles);
+    // Drawn in parts, the cut model is the one mesh's picture, framed the same.
+    let parts = SceneRenderer::new(Scene {
+        part_cells: 300,
+        ..with_sides
+    })
+    .and_then(|mut e| e.render())
+    .expect("in parts");
+    assert!(
+        parts.report.drawn.contains("parts"),
+        "{}",
+        parts.report.drawn
+    );
+    assert!(
+        parts.image == walls.image,
+        "parts and the whole cut model differ"
+    );
+    // A range beyond the model is named.
+    let mut beyond = scene;
+    beyond.j = Some([20, 30]);
+    engine.set_scene(beyond).expect("checked when drawn");
+    let said = engine
+        .render()
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert_eq!(said, "cells J 20..30 are not within the model's 1..24");
+}

@@ -78,8 +78,10 @@ fn same_picture_from_scene(name: &str, command: &[&str], flags: &[&str]) -> Scen
 
 #[test]
 fn the_sample_from_its_scene() {
-    let scene = same_picture_from_scene("sample", &["render"], &["--sides", "--view", "60,30"]);
+    let flags = ["--sides", "--view", "60,30", "--i-range", "3..30"];
+    let scene = same_picture_from_scene("sample", &["render"], &flags);
     assert!(scene.sides);
+    assert_eq!((scene.i, scene.j), (Some([3, 30]), None));
     assert_eq!(scene.camera.azimuth, 60.0);
     let model = scene.model.expect("a model");
     assert!(model.path.ends_with("data/sample.grdecl"), "{model:?}");

@@ -128,6 +128,7 @@ fn time_model(name: &str, source: ModelSource) -> Result<(SceneTiming, String)> 
         sides: false,
         property: model.colouring_property(None, false),
         flat_cells: true,
+        cut: None,
     };
     let (mesh, range) = build(&model.grid, &options)?;
     drop(model);

@@ -27,7 +27,7 @@ pub enum LodCommand {
     /// between nodes. A layer is its top surface (and the model's bottom with the last
     /// layer), as the hierarchy stores them; its side faces are stored at full
     /// resolution and painted cell by cell as `strata render --sides` paints them.
-    View(ViewArgs),
+    View(Box<ViewArgs>),
 }
 
 #[derive(Args)]

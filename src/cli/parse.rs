@@ -112,6 +112,16 @@ pub(crate) fn parse_hidden(s: &str) -> Result<HiddenLines, String> {
 
 /// A 1-based inclusive range of layers, A..B.
 pub(crate) fn parse_layers(s: &str) -> Result<(usize, usize), String> {
+    parse_one_based(s, "layer")
+}
+
+/// A 1-based inclusive range of cells along I or J, A..B.
+pub(crate) fn parse_cells(s: &str) -> Result<(usize, usize), String> {
+    parse_one_based(s, "cell")
+}
+
+/// A..B, both 1-based `what`s, A at most B.
+fn parse_one_based(s: &str, what: &str) -> Result<(usize, usize), String> {
     let (a, b) = s
         .split_once("..")
         .ok_or_else(|| format!("expected A..B, got {s:?}"))?;
@@ -120,11 +130,11 @@ pub(crate) fn parse_layers(s: &str) -> Result<(usize, usize), String> {
             .parse::<usize>()
             .ok()
             .filter(|&n| n >= 1)
-            .ok_or_else(|| format!("{v:?} is not a 1-based layer"))
+            .ok_or_else(|| format!("{v:?} is not a 1-based {what}"))
     };
     let (a, b) = (num(a)?, num(b)?);
     if a > b {
-        return Err(format!("layer range {a}..{b} is empty"));
+        return Err(format!("{what} range {a}..{b} is empty"));
     }
     Ok((a, b))
 }

@@ -15,12 +15,14 @@ use super::parse::{IsoSpacing, parse_iso};
 use super::style::{FrameArgs, LayerArgs, StyleArgs};
 
 /// The options that describe a scene, which a scene file replaces.
-const SCENE_OPTIONS: [&str; 30] = [
+const SCENE_OPTIONS: [&str; 32] = [
     "model",
     "props",
     "grid_only",
     "layer",
     "layers",
+    "i_range",
+    "j_range",
     "sides",
     "wire",
     "hidden",

@@ -6,8 +6,8 @@ use clap::{Args, ValueEnum};
 use strata::render::{Colormap, HiddenLines, WireMode};
 
 use super::parse::{
-    parse_column, parse_grid_lines, parse_hidden, parse_layers, parse_range, parse_size,
-    parse_view, parse_wire, parse_zscale,
+    parse_cells, parse_column, parse_grid_lines, parse_hidden, parse_layers, parse_range,
+    parse_size, parse_view, parse_wire, parse_zscale,
 };
 use strata::scene::{Attenuate, CameraSpec, CoverageChoice, GridLineSpec, Scene, WireStyle};
 
@@ -156,6 +156,13 @@ pub struct LayerArgs {
     /// Also draw the drawn layers' side faces: the outer shell and fault walls.
     #[arg(long)]
     pub sides: bool,
+    /// Range filter along I: columns of cells A..B, 1-based and inclusive. The cells
+    /// outside are left out and, with --sides, the walls they leave are drawn.
+    #[arg(long, value_name = "A..B", value_parser = parse_cells)]
+    i_range: Option<(usize, usize)>,
+    /// Range filter along J, as --i-range.
+    #[arg(long, value_name = "A..B", value_parser = parse_cells)]
+    j_range: Option<(usize, usize)>,
 }
 
 impl LayerArgs {
@@ -168,5 +175,7 @@ impl LayerArgs {
             (None, None) => None,
         };
         scene.sides = self.sides;
+        scene.i = self.i_range.map(|(a, b)| [a, b]);
+        scene.j = self.j_range.map(|(a, b)| [a, b]);
     }
 }

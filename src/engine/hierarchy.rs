@@ -60,6 +60,12 @@ impl Hierarchy {
                 path.display()
             )));
         }
+        if scene.i.is_some() || scene.j.is_some() {
+            return Err(Error::scene(format!(
+                "{}: I and J range filters are drawn from a model, not yet from a hierarchy",
+                path.display()
+            )));
+        }
         let file = LodFile::open(path)?;
         let nz = file.layers().iter().map(|l| l.k as usize + 1).max();
         let Some(nz) = nz else {

@@ -6,10 +6,10 @@
 //! [`Model`] read from the scene's files, the *content* built from it (the surfaces
 //! and their GPU buffers, a decimated scene, an open hierarchy), and the GPU
 //! [`Renderer`]. [`SceneRenderer::set_scene`] compares the new scene with the old
-//! field by field: new files read the model again; new layers, sides, property,
-//! level of detail, technique or isoline field build the content again; anything
-//! else (camera, size, line style, colours, isoline spacing, grid lines) is drawn by
-//! the next frame from what is held. [`Counters`] says how often each happened.
+//! field by field: new files read the model again; new layers, I/J range filters,
+//! sides, property, level of detail, technique or isoline field build the content
+//! again; anything else (camera, size, line style, colours, isoline spacing, grid
+//! lines) is drawn by the next frame from what is held. [`Counters`] says how often each happened.
 //!
 //! The content takes one of three forms:
 //! - **whole**: one mesh of every drawn surface, full or decimated (`render`,
@@ -101,8 +101,8 @@ pub struct FrameReport {
 
 /// What a frame draws from: see the module docs.
 enum Content {
-    Whole(whole::Whole),
-    Parts(parts::Parts),
+    Whole(Box<whole::Whole>),
+    Parts(Box<parts::Parts>),
     Hierarchy(Box<hierarchy::Hierarchy>),
 }
 
@@ -253,7 +253,7 @@ impl SceneRenderer {
         model.use_step(self.scene.colour.step)?;
         let scene = &self.scene;
         let content = match parts::Parts::plan(model, scene)? {
-            Some(parts) => Content::Parts(parts),
+            Some(parts) => Content::Parts(Box::new(parts)),
             None => {
                 let renderer = match &mut self.renderer {
                     Some(renderer) => renderer,
@@ -261,7 +261,7 @@ impl SceneRenderer {
                 };
                 let (whole, notes) = whole::Whole::build(renderer, model, scene)?;
                 self.pending.extend(notes);
-                Content::Whole(whole)
+                Content::Whole(Box::new(whole))
             }
         };
         self.content = Some(content);
@@ -291,7 +291,7 @@ fn content_key(scene: &Scene) -> impl PartialEq + use<> {
     let colour = &scene.colour;
     (
         scene.lod.clone(),
-        scene.layers,
+        (scene.layers, scene.i, scene.j),
         scene.sides,
         (
             colour.property.clone(),

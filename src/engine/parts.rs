@@ -135,7 +135,7 @@ impl Parts {
         let camera = match scene.camera.centre {
             Some([i, j]) => camera.centred_on(Vec3::from(column_top(
                 grid,
-                self.options.layers.clone(),
+                &self.options,
                 [i - 1, j - 1],
                 origin,
             )?)),

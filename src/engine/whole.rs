@@ -162,7 +162,7 @@ impl Whole {
         let camera = match (scene.camera.centre, model) {
             (Some([i, j]), Some(model)) => camera.centred_on(Vec3::from(column_top(
                 &model.grid,
-                self.options.layers.clone(),
+                &self.options,
                 [i - 1, j - 1],
                 mesh.origin,
             )?)),
@@ -240,8 +240,10 @@ pub fn scene_options(model: &Model, scene: &Scene) -> Result<SceneOptions> {
             wire.name()
         )));
     }
+    let d = grid.dims();
     Ok(SceneOptions {
-        layers: scene.layer_range(grid.dims().nz)?,
+        cut: scene.cut([d.nx, d.ny])?,
+        layers: scene.layer_range(d.nz)?,
         sides: scene.sides,
         property,
         flat_cells: !colour.smooth && scene.lod == Lod::Full,

@@ -95,6 +95,11 @@ pub struct Surfaces<'a> {
     /// one after another colour their shared nodes as the whole scene does; `layers`
     /// when `None`.
     pub scene: Option<Range<usize>>,
+    /// A range filter's columns: cells outside them count as absent, so no face is
+    /// built there, they lend no value to a node, and the side faces they leave are
+    /// open walls (the model cut open, as reservoir tools show a range filter). Unlike
+    /// `columns`, which only picks the part of the surfaces to build.
+    pub cut: Option<Columns>,
 }
 
 impl<'a> Surfaces<'a> {
@@ -107,6 +112,7 @@ impl<'a> Surfaces<'a> {
             origin,
             columns: None,
             scene: None,
+            cut: None,
         }
     }
 
@@ -136,9 +142,19 @@ impl<'a> Surfaces<'a> {
         }
     }
 
-    /// The columns asked for, of a grid of `dims`.
+    /// These faces cut to the range filter `cut` ([`Surfaces::cut`]); none when `None`.
+    pub fn cut(self, cut: Option<Columns>) -> Self {
+        Surfaces { cut, ..self }
+    }
+
+    /// The columns whose faces are built, of a grid of `dims`: those asked for, within
+    /// the cut.
     fn columns_of(&self, dims: Dims) -> Columns {
-        self.columns.clone().unwrap_or_else(|| Columns::all(dims))
+        let asked = self.columns.clone().unwrap_or_else(|| Columns::all(dims));
+        match &self.cut {
+            Some(cut) => asked.within(cut),
+            None => asked,
+        }
     }
 }
 
@@ -164,6 +180,23 @@ impl Columns {
     /// Whether no column is in the rectangle.
     pub fn is_empty(&self) -> bool {
         self.i.is_empty() || self.j.is_empty()
+    }
+
+    /// Whether column `(i, j)` is in the rectangle.
+    pub fn contains(&self, i: usize, j: usize) -> bool {
+        self.i.contains(&i) && self.j.contains(&j)
+    }
+
+    /// The columns of both rectangles (empty when they do not meet).
+    pub fn within(&self, other: &Columns) -> Columns {
+        let meet = |a: &Range<usize>, b: &Range<usize>| {
+            let start = a.start.max(b.start);
+            start..a.end.min(b.end).max(start)
+        };
+        Columns {
+            i: meet(&self.i, &other.i),
+            j: meet(&self.j, &other.j),
+        }
     }
 
     /// These columns and `by` more on every side, within a grid of `dims`.
@@ -232,14 +265,14 @@ pub fn surface_face_corners(
     face_has_area([a, b, c, d]).then_some([a, b, c, d])
 }
 
-/// Visits the faces of row `j` of layer `k`'s `face` surface that
-/// [`surface_face_corners`] gives, in i order, with their corners, computing a corner
-/// shared with the face before once. `visit` also hears whether the face's west
+/// Visits the faces in `columns` (cells along i) of row `j` of layer `k`'s `face`
+/// surface that [`surface_face_corners`] gives, in i order, with their corners,
+/// computing a corner shared with the face before once. `visit` also hears whether the face's west
 /// corners (SW, NW) are those of the face it was given just before: a pass over the
 /// corners of a whole model, as a framing, then takes each shared one once.
 pub fn visit_row_faces(
     grid: &CornerPointGrid,
-    [j, k]: [usize; 2],
+    ([j, k], columns): ([usize; 2], Range<usize>),
     face: Face,
     origin: [f64; 3],
     mut visit: impl FnMut(usize, [[f32; 3]; 4], bool),
@@ -255,7 +288,7 @@ pub fn visit_row_faces(
         visited: bool,
     }
     let mut east: Option<East> = None;
-    for i in 0..grid.dims().nx {
+    for i in columns {
         if !has_faces(grid, i, j, k) {
             continue;
         }
@@ -282,14 +315,15 @@ pub fn visit_row_faces(
     }
 }
 
-/// The faces in `columns` of layer `k`'s surface ([`layer_surfaces`]).
+/// The faces in `columns` of layer `k`'s surface ([`layer_surfaces`]), cells outside
+/// `cut` counted as absent.
 fn one_layer(
     grid: &CornerPointGrid,
     k: usize,
     face: Face,
     property: Option<&str>,
     origin: [f64; 3],
-    columns: &Columns,
+    (columns, cut): (&Columns, Option<&Columns>),
 ) -> Result<SurfaceMesh> {
     let nz = grid.dims().nz;
     if k >= nz {
@@ -316,7 +350,8 @@ fn one_layer(
         .into_par_iter()
         .map(|c| {
             let cell = [seen_i.start + c % width, seen_j.start + c / width, k];
-            surface_face_corners(grid, cell, face, origin).is_some()
+            cut.is_none_or(|cut| cut.contains(cell[0], cell[1]))
+                && surface_face_corners(grid, cell, face, origin).is_some()
         })
         .collect();
     let is_kept = |i: isize, j: isize| {
@@ -421,14 +456,19 @@ pub fn layer_surfaces(
     let Surfaces {
         property, origin, ..
     } = *request;
+    let cut = request.cut.as_ref();
+    if columns.is_empty() {
+        return Ok(SurfaceMesh::with_origin(origin));
+    }
     if request.layers.len() == 1 {
-        return one_layer(grid, request.layers.start, face, property, origin, &columns);
+        let k = request.layers.start;
+        return one_layer(grid, k, face, property, origin, (&columns, cut));
     }
     let meshes = request
         .layers
         .clone()
         .into_par_iter()
-        .map(|k| one_layer(grid, k, face, property, origin, &columns))
+        .map(|k| one_layer(grid, k, face, property, origin, (&columns, cut)))
         .collect::<Result<Vec<_>>>()?;
     let mut all = SurfaceMesh::with_origin(origin);
     for m in &meshes {
@@ -447,13 +487,15 @@ pub fn side_surfaces(grid: &CornerPointGrid, request: &Surfaces) -> Result<Surfa
         .scene
         .clone()
         .unwrap_or_else(|| request.layers.clone());
+    if columns.is_empty() {
+        return Ok(SurfaceMesh::with_origin(request.origin));
+    }
     side_faces_among(
         grid,
-        request.layers.clone(),
-        scene,
+        (request.layers.clone(), scene),
         request.property,
         request.origin,
-        &columns,
+        (&columns, request.cut.as_ref()),
     )
 }
 
@@ -504,14 +546,14 @@ fn face_has_area([a, b, c, d]: [[f32; 3]; 4]) -> bool {
     triangle_area(a, b, c) + triangle_area(a, c, d) >= MIN_FACE_AREA
 }
 
-/// The side faces of `layers` in `columns`, as a run of `scene` ([`Surfaces::scene`]).
+/// The side faces of `layers` in `columns`, as a run of `scene` ([`Surfaces::scene`]),
+/// cells outside `cut` counted as absent.
 fn side_faces_among(
     grid: &CornerPointGrid,
-    layers: Range<usize>,
-    scene: Range<usize>,
+    (layers, scene): (Range<usize>, Range<usize>),
     property: Option<&str>,
     origin: [f64; 3],
-    columns: &Columns,
+    (columns, cut): (&Columns, Option<&Columns>),
 ) -> Result<SurfaceMesh> {
     let nz = grid.dims().nz;
     if scene.end > nz || layers.is_empty() || layers.start < scene.start || layers.end > scene.end {
@@ -553,12 +595,8 @@ fn side_faces_among(
         let with_faces: Vec<bool> = (0..width * tested_j.len())
             .into_par_iter()
             .map(|c| {
-                has_faces(
-                    grid,
-                    tested_i.start + c % width,
-                    tested_j.start + c / width,
-                    k,
-                )
+                let (i, j) = (tested_i.start + c % width, tested_j.start + c / width);
+                cut.is_none_or(|cut| cut.contains(i, j)) && has_faces(grid, i, j, k)
             })
             .collect();
         let with_faces =
@@ -1146,7 +1184,8 @@ mod tests {
             let mut faces = m.cell_faces.iter();
             let (mut shared, mut before) = (0, None);
             for j in 0..d.ny {
-                visit_row_faces(&g, [j, 3], face, origin, |i, corners, west_given| {
+                let row = ([j, 3], 0..g.dims().nx);
+                visit_row_faces(&g, row, face, origin, |i, corners, west_given| {
                     let f = faces.next().expect("a face for each one visited");
                     assert_eq!(f.cell, [i as u32, j as u32, 3]);
                     assert_eq!(
