@@ -147,14 +147,15 @@ impl<'a> Surfaces<'a> {
         Surfaces { cut, ..self }
     }
 
-    /// The columns whose faces are built, of a grid of `dims`: those asked for, within
-    /// the cut.
-    fn columns_of(&self, dims: Dims) -> Columns {
+    /// The columns whose faces are built, of a grid of `dims`: those asked for (refused
+    /// when empty or beyond the grid), within the cut (empty where they miss it).
+    fn columns_of(&self, dims: Dims) -> Result<Columns> {
         let asked = self.columns.clone().unwrap_or_else(|| Columns::all(dims));
-        match &self.cut {
+        asked.check(dims)?;
+        Ok(match &self.cut {
             Some(cut) => asked.within(cut),
             None => asked,
-        }
+        })
     }
 }
 
@@ -452,7 +453,7 @@ pub fn layer_surfaces(
     face: Face,
     request: &Surfaces,
 ) -> Result<SurfaceMesh> {
-    let columns = request.columns_of(grid.dims());
+    let columns = request.columns_of(grid.dims())?;
     let Surfaces {
         property, origin, ..
     } = *request;
@@ -482,7 +483,7 @@ pub fn layer_surfaces(
 /// split from it by a fault. Fault walls thus show both cells' faces, each with its
 /// own wireframe.
 pub fn side_surfaces(grid: &CornerPointGrid, request: &Surfaces) -> Result<SurfaceMesh> {
-    let columns = request.columns_of(grid.dims());
+    let columns = request.columns_of(grid.dims())?;
     let scene = request
         .scene
         .clone()
@@ -1123,6 +1124,19 @@ mod tests {
         assert!(beyond(0..24, 10..19).is_err());
         assert!(beyond(3..25, 0..18).is_err());
         assert!(beyond(0..24, 4..4).is_err());
+        // A range filter keeps the faces of its cells alone; one that misses the grid
+        // keeps none, and that is no error.
+        let cut = |i, j| {
+            let request = Surfaces::layer(2, origin).cut(Some(Columns { i, j }));
+            layer_surfaces(&g, Face::Top, &request).unwrap()
+        };
+        let kept = cut(5..12, 3..9);
+        assert!(!kept.cell_faces.is_empty());
+        assert!(kept.cell_faces.iter().all(|f| {
+            let [i, j, _] = f.cell.map(|c| c as usize);
+            (5..12).contains(&i) && (3..9).contains(&j)
+        }));
+        assert!(cut(30..40, 0..5).is_empty());
     }
 
     #[test]
