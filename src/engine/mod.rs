@@ -163,10 +163,7 @@ impl SceneRenderer {
 
     /// The GPU renderer, opened on first use.
     pub fn renderer(&mut self) -> Result<&mut Renderer> {
-        match &mut self.renderer {
-            Some(renderer) => Ok(renderer),
-            slot => Ok(slot.insert(Renderer::headless()?)),
-        }
+        opened(&mut self.renderer)
     }
 
     /// Draws `scene` from now on; what its changes invalidate is dropped and built
@@ -190,10 +187,7 @@ impl SceneRenderer {
         self.ensure_content()?;
         let built = start.elapsed().as_secs_f64();
         let drawing = Instant::now();
-        let renderer = match &mut self.renderer {
-            Some(renderer) => renderer,
-            slot => slot.insert(Renderer::headless()?),
-        };
+        let renderer = opened(&mut self.renderer)?;
         let scene = &self.scene;
         let progress = self.progress.as_deref();
         let (image, mut report) = match self.content.as_mut() {
@@ -253,13 +247,10 @@ impl SceneRenderer {
         model.use_step(self.scene.colour.step)?;
         let scene = &self.scene;
         let content = match parts::Parts::plan(model, scene)? {
-            Some(parts) => Content::Parts(Box::new(parts)),
-            None => {
-                let renderer = match &mut self.renderer {
-                    Some(renderer) => renderer,
-                    slot => slot.insert(Renderer::headless()?),
-                };
-                let (whole, notes) = whole::Whole::build(renderer, model, scene)?;
+            parts::Plan::Parts(parts) => Content::Parts(parts),
+            parts::Plan::Whole(options) => {
+                let renderer = opened(&mut self.renderer)?;
+                let (whole, notes) = whole::Whole::build(renderer, model, scene, options)?;
                 self.pending.extend(notes);
                 Content::Whole(Box::new(whole))
             }
@@ -279,6 +270,14 @@ fn background_only(image: &RgbaImage, scene: &Scene) -> bool {
         [255; 4]
     };
     image.pixels().all(|p| p.0 == clear)
+}
+
+/// The renderer in `slot`, opened on the best adapter found when there is none yet.
+fn opened(slot: &mut Option<Renderer>) -> Result<&mut Renderer> {
+    match slot {
+        Some(renderer) => Ok(renderer),
+        empty => Ok(empty.insert(Renderer::headless()?)),
+    }
 }
 
 fn no_model() -> Error {

@@ -19,6 +19,14 @@ use crate::scene::{Lod, Scene};
 use crate::surfaces::{self, Part, SceneExtent, SceneOptions, column_top};
 use crate::{Error, Result};
 
+/// How a scene of a model is drawn ([`Parts::plan`]).
+pub enum Plan {
+    /// As one mesh, of the surfaces these options ask for.
+    Whole(SceneOptions),
+    /// A part at a time.
+    Parts(Box<Parts>),
+}
+
 /// The parts of a scene, and the framing pass of the last view drawn.
 pub struct Parts {
     options: SceneOptions,
@@ -32,10 +40,10 @@ pub struct Parts {
 }
 
 impl Parts {
-    /// The parts of `scene`'s surfaces of `model`, when there is more than one run of
-    /// layers (else `None`: it is drawn whole), after refusing a part larger than the
-    /// memory there is.
-    pub fn plan(model: &Model, scene: &Scene) -> Result<Option<Self>> {
+    /// How `scene`'s surfaces of `model` are drawn: in parts when there is more than
+    /// one run of layers, else whole; after refusing a part larger than the memory
+    /// there is.
+    pub fn plan(model: &Model, scene: &Scene) -> Result<Plan> {
         let grid = &model.grid;
         let decimated = matches!(scene.lod, Lod::Decimated { .. });
         let options = scene_options(model, scene)?;
@@ -48,7 +56,7 @@ impl Parts {
             "to draw (lower --part-cells)",
         )?;
         if !surfaces::drawn_in_parts(&parts) {
-            return Ok(None);
+            return Ok(Plan::Whole(options));
         }
         let count = parts.len();
         let cells = scene.part_cells;
@@ -89,13 +97,13 @@ impl Parts {
             }
             None => None,
         };
-        Ok(Some(Parts {
+        Ok(Plan::Parts(Box::new(Parts {
             range: surfaces::colour_range_of(grid, &options)?,
             options,
             parts,
             iso,
             extent: None,
-        }))
+        })))
     }
 
     /// Frames the scene for `scene`'s camera (one pass over the corners, held for the

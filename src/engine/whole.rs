@@ -26,12 +26,13 @@ pub struct Whole {
 }
 
 impl Whole {
-    /// Builds `scene`'s surfaces of `model` (decimated where it asks), and uploads
-    /// them.
+    /// Builds the surfaces of `model` that `options` ask for (`scene`'s, see
+    /// [`scene_options`]), decimated where the scene asks, and uploads them.
     pub fn build(
         renderer: &mut Renderer,
         model: &Model,
         scene: &Scene,
+        options: SceneOptions,
     ) -> Result<(Self, Vec<Note>)> {
         let grid = &model.grid;
         let decimation = match &scene.lod {
@@ -48,7 +49,6 @@ impl Whole {
             Lod::Hierarchy { .. } => return Err(Error::scene("a hierarchy is not one mesh")),
         };
         let wire = technique(scene)?;
-        let options = scene_options(model, scene)?;
         if decimation.is_some_and(|d| d.cover) && wire != WireMode::Global {
             return Err(Error::scene(format!(
                 "--cover draws with --wire global, not {}",
