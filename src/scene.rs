@@ -34,6 +34,9 @@ pub struct Scene {
     pub i: Option<[usize; 2]>,
     /// Range filter along J, as `i`.
     pub j: Option<[usize; 2]>,
+    /// Inactive cells drawn too (those not pinched out), in the colour of an
+    /// undefined value: where the model has cells the simulation leaves out.
+    pub inactive: bool,
     /// Also the drawn layers' side faces: the outer shell and fault walls.
     pub sides: bool,
     /// How the cells are coloured.
@@ -291,6 +294,7 @@ impl Default for Scene {
             layers: None,
             i: None,
             j: None,
+            inactive: false,
             sides: false,
             colour: Colouring::default(),
             wire: WireStyle::default(),
@@ -603,6 +607,7 @@ mod tests {
             layers: Some([2, 7]),
             i: Some([3, 40]),
             j: None,
+            inactive: true,
             sides: true,
             colour: Colouring {
                 property: Some("PRESSURE".into()),

@@ -6,7 +6,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use rayon::prelude::*;
 use strata_grid::{
-    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, Surfaces, has_faces, layer_surfaces,
+    Columns, CornerPointGrid, Dims, Face, SurfaceMesh, Surfaces, drawn_cell, layer_surfaces,
     open_sides, side_face_corners, side_surfaces, visit_row_faces,
 };
 use strata_render::glam::Vec3;
@@ -30,6 +30,8 @@ pub struct SceneOptions {
     /// A range filter's columns (0-based): the cells outside are left out, and with
     /// `sides` the walls they leave are drawn ([`Surfaces::cut`]); all when `None`.
     pub cut: Option<Columns>,
+    /// Inactive cells drawn too, without a value ([`Surfaces::inactive`]).
+    pub inactive: bool,
 }
 
 /// The surfaces of `grid` for a view, in one mesh relative to the grid's display
@@ -288,7 +290,8 @@ pub fn build_part(
             &Surfaces::new(run.clone(), origin)
                 .property(property)
                 .columns(columns.clone())
-                .cut(options.cut.clone()),
+                .cut(options.cut.clone())
+                .inactive(options.inactive),
         )?,
         Part::Band { layer, face, .. } => layer_surfaces(
             grid,
@@ -296,7 +299,8 @@ pub fn build_part(
             &Surfaces::layer(*layer, origin)
                 .property(property)
                 .columns(columns.clone())
-                .cut(options.cut.clone()),
+                .cut(options.cut.clone())
+                .inactive(options.inactive),
         )?,
         Part::Bottom(k) => layer_surfaces(
             grid,
@@ -304,7 +308,8 @@ pub fn build_part(
             &Surfaces::layer(*k, origin)
                 .property(property)
                 .columns(columns.clone())
-                .cut(options.cut.clone()),
+                .cut(options.cut.clone())
+                .inactive(options.inactive),
         )?,
         Part::Sides(run) => {
             let scene = drawn_layers(grid, options)?;
@@ -314,7 +319,8 @@ pub fn build_part(
                     .property(property)
                     .columns(columns.clone())
                     .among(scene)
-                    .cut(options.cut.clone()),
+                    .cut(options.cut.clone())
+                    .inactive(options.inactive),
             )?
         }
     };
@@ -454,7 +460,7 @@ pub fn scene_extent(
                 for &(k, face) in &layer_faces {
                     visit_row_faces(
                         grid,
-                        ([j, k], cut.i.clone()),
+                        ([j, k], cut.i.clone(), options.inactive),
                         face,
                         origin,
                         |i, [sw, se, ne, nw], west_given| {
@@ -470,7 +476,9 @@ pub fn scene_extent(
                     // beside it, which say which of its sides are open.
                     let row = |j: usize| -> Vec<bool> {
                         (0..nx)
-                            .map(|i| cut.contains(i, j) && has_faces(grid, i, j, k))
+                            .map(|i| {
+                                cut.contains(i, j) && drawn_cell(grid, [i, j, k], options.inactive)
+                            })
                             .collect()
                     };
                     let mut before = rows.start.checked_sub(1).map(row).unwrap_or_default();
@@ -645,12 +653,14 @@ pub fn column_top(
         .layers
         .clone()
         .unwrap_or(0..nz)
-        .filter(|&k| in_cut && grid.is_active(i, j, k))
+        .filter(|&k| in_cut && drawn_cell(grid, [i, j, k], options.inactive))
         .map(|k| {
             let face = layer_surfaces(
                 grid,
                 Face::Top,
-                &Surfaces::layer(k, origin).columns(column.clone()),
+                &Surfaces::layer(k, origin)
+                    .columns(column.clone())
+                    .inactive(options.inactive),
             )?;
             Ok(face.cell_centre(cell))
         });
@@ -823,6 +833,7 @@ mod tests {
                 property: Some("PORO".into()),
                 flat_cells: true,
                 cut: None,
+                inactive: false,
             };
             let (whole, _) = build(&grid, &options).expect("the scene");
             assert!(whole.triangle_count() > 10_000);

@@ -76,6 +76,7 @@ fn survive(path: &Path, what: &str) -> Result<Read, String> {
             property: grid.property("PORO").map(|_| "PORO".to_string()),
             flat_cells: false,
             cut: None,
+            inactive: false,
         };
         let Ok((surfaces, _)) = build_stacked_surfaces(&grid, &scene) else {
             return Ok(refused);

@@ -347,3 +347,48 @@ fn a_range_filter_cuts_the_model_open() {
         .unwrap_or_default();
     assert_eq!(said, "cells J 20..30 are not within the model's 1..24");
 }
+
+#[test]
+fn inactive_cells_are_drawn_grey_on_request() {
+    use strata::grid::drawn_cell;
+    let grid = strata::grid::open(&sample()).expect("the sample");
+    let d = grid.dims();
+    // Layer 3 seen from above: its top and bottom surfaces (the bottom closes the
+    // stack), each inactive cell two triangles on each.
+    let scene = small(Scene {
+        layers: Some([3, 3]),
+        camera: strata::scene::CameraSpec {
+            azimuth: 0.0,
+            elevation: 90.0,
+            ..Default::default()
+        },
+        ..Scene::of_model(sample())
+    });
+    let inactive: usize = (0..d.ny)
+        .flat_map(|j| (0..d.nx).map(move |i| [i, j, 2]))
+        .filter(|&c| drawn_cell(&grid, c, true) && !drawn_cell(&grid, c, false))
+        .count();
+    assert!(inactive > 50, "{inactive} inactive cells in layer 3");
+    let grey = |f: &strata::Frame| {
+        f.image
+            .pixels()
+            .filter(|p| {
+                let [r, g, b, _] = p.0;
+                r == g && g == b && (90..200).contains(&r)
+            })
+            .count()
+    };
+    let mut engine = SceneRenderer::new(scene.clone()).expect("a scene");
+    let active = engine.render().expect("a frame");
+    engine
+        .set_scene(Scene {
+            inactive: true,
+            ..scene
+        })
+        .expect("inactive cells");
+    let all = engine.render().expect("a frame");
+    assert_eq!(all.report.triangles, active.report.triangles + 4 * inactive);
+    assert_eq!(grey(&active), 0);
+    // The inactive corner of the layer (8 % of its cells) shows grey, lines aside.
+    assert!(grey(&all) > 240 * 180 / 100, "{} grey pixels", grey(&all));
+}

@@ -129,6 +129,7 @@ fn time_model(name: &str, source: ModelSource) -> Result<(SceneTiming, String)> 
         property: model.colouring_property(None, false),
         flat_cells: true,
         cut: None,
+        inactive: false,
     };
     let (mesh, range) = build(&model.grid, &options)?;
     drop(model);

@@ -15,7 +15,7 @@ use super::parse::{IsoSpacing, parse_iso};
 use super::style::{FrameArgs, LayerArgs, StyleArgs};
 
 /// The options that describe a scene, which a scene file replaces.
-const SCENE_OPTIONS: [&str; 32] = [
+const SCENE_OPTIONS: [&str; 33] = [
     "model",
     "props",
     "grid_only",
@@ -23,6 +23,7 @@ const SCENE_OPTIONS: [&str; 32] = [
     "layers",
     "i_range",
     "j_range",
+    "inactive",
     "sides",
     "wire",
     "hidden",

@@ -163,6 +163,10 @@ pub struct LayerArgs {
     /// Range filter along J, as --i-range.
     #[arg(long, value_name = "A..B", value_parser = parse_cells)]
     j_range: Option<(usize, usize)>,
+    /// Draw inactive cells too (those not pinched out), grey: where the model has
+    /// cells the simulation leaves out.
+    #[arg(long)]
+    inactive: bool,
 }
 
 impl LayerArgs {
@@ -177,5 +181,6 @@ impl LayerArgs {
         scene.sides = self.sides;
         scene.i = self.i_range.map(|(a, b)| [a, b]);
         scene.j = self.j_range.map(|(a, b)| [a, b]);
+        scene.inactive = self.inactive;
     }
 }

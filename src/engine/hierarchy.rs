@@ -60,9 +60,10 @@ impl Hierarchy {
                 path.display()
             )));
         }
-        if scene.i.is_some() || scene.j.is_some() {
+        if scene.i.is_some() || scene.j.is_some() || scene.inactive {
             return Err(Error::scene(format!(
-                "{}: I and J range filters are drawn from a model, not yet from a hierarchy",
+                "{}: I and J range filters and inactive cells are drawn from a model, not \
+                 yet from a hierarchy",
                 path.display()
             )));
         }

@@ -290,7 +290,7 @@ fn content_key(scene: &Scene) -> impl PartialEq + use<> {
     let colour = &scene.colour;
     (
         scene.lod.clone(),
-        (scene.layers, scene.i, scene.j),
+        (scene.layers, scene.i, scene.j, scene.inactive),
         scene.sides,
         (
             colour.property.clone(),

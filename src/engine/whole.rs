@@ -243,6 +243,7 @@ pub fn scene_options(model: &Model, scene: &Scene) -> Result<SceneOptions> {
     let d = grid.dims();
     Ok(SceneOptions {
         cut: scene.cut([d.nx, d.ny])?,
+        inactive: scene.inactive,
         layers: scene.layer_range(d.nz)?,
         sides: scene.sides,
         property,

@@ -73,7 +73,7 @@ pub use mesh::{CellFace, SurfaceMesh};
 /// The array crate of the public API (grid arrays are `ndarray::Array3`).
 pub use ndarray;
 pub use surface::{
-    Columns, Face, Surfaces, has_faces, layer_surfaces, open_sides, side_face_corners,
+    Columns, Face, Surfaces, drawn_cell, has_faces, layer_surfaces, open_sides, side_face_corners,
     side_surfaces, surface_face_corners, visit_row_faces,
 };
 pub use terrain::{Terrain, TerrainInput, TerrainSynth};

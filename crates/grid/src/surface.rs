@@ -100,6 +100,9 @@ pub struct Surfaces<'a> {
     /// open walls (the model cut open, as reservoir tools show a range filter). Unlike
     /// `columns`, which only picks the part of the surfaces to build.
     pub cut: Option<Columns>,
+    /// Inactive cells get faces too (not pinched-out ones), with no value (drawn in
+    /// the undefined colour): where the model has cells the simulation leaves out.
+    pub inactive: bool,
 }
 
 impl<'a> Surfaces<'a> {
@@ -113,6 +116,7 @@ impl<'a> Surfaces<'a> {
             columns: None,
             scene: None,
             cut: None,
+            inactive: false,
         }
     }
 
@@ -139,6 +143,28 @@ impl<'a> Surfaces<'a> {
         Surfaces {
             scene: Some(scene),
             ..self
+        }
+    }
+
+    /// These faces with inactive cells' too, when `inactive` ([`Surfaces::inactive`]).
+    pub fn inactive(self, inactive: bool) -> Self {
+        Surfaces { inactive, ..self }
+    }
+
+    /// Whether cell `(i, j, k)` has faces on these surfaces: within the cut, not
+    /// pinched out, and active unless inactive cells are shown.
+    fn shows(&self, grid: &CornerPointGrid, i: usize, j: usize, k: usize) -> bool {
+        self.cut.as_ref().is_none_or(|cut| cut.contains(i, j))
+            && drawn_cell(grid, [i, j, k], self.inactive)
+    }
+
+    /// The value these surfaces give cell `(i, j, k)` of `values`: none for an inactive
+    /// cell, whatever a deck says of it.
+    fn value_of(&self, grid: &CornerPointGrid, values: &Array3<f32>, [i, j, k]: [usize; 3]) -> f32 {
+        if self.inactive && !grid.is_active(i, j, k) {
+            f32::NAN
+        } else {
+            values[[k, j, i]]
         }
     }
 
@@ -257,8 +283,18 @@ pub fn surface_face_corners(
     face: Face,
     origin: [f64; 3],
 ) -> Option<[[f32; 3]; 4]> {
-    let [i, j, k] = cell;
-    if !has_faces(grid, i, j, k) {
+    face_corners(grid, cell, face, origin, false)
+}
+
+/// [`surface_face_corners`] on surfaces that show inactive cells (`inactive`) or not.
+fn face_corners(
+    grid: &CornerPointGrid,
+    cell: [usize; 3],
+    face: Face,
+    origin: [f64; 3],
+    inactive: bool,
+) -> Option<[[f32; 3]; 4]> {
+    if !drawn_cell(grid, cell, inactive) {
         return None;
     }
     let [a, b, c, d] =
@@ -267,13 +303,14 @@ pub fn surface_face_corners(
 }
 
 /// Visits the faces in `columns` (cells along i) of row `j` of layer `k`'s `face`
-/// surface that [`surface_face_corners`] gives, in i order, with their corners,
+/// surface that [`surface_face_corners`] gives (with inactive cells' where
+/// `inactive`), in i order, with their corners,
 /// computing a corner shared with the face before once. `visit` also hears whether the face's west
 /// corners (SW, NW) are those of the face it was given just before: a pass over the
 /// corners of a whole model, as a framing, then takes each shared one once.
 pub fn visit_row_faces(
     grid: &CornerPointGrid,
-    ([j, k], columns): ([usize; 2], Range<usize>),
+    ([j, k], columns, inactive): ([usize; 2], Range<usize>, bool),
     face: Face,
     origin: [f64; 3],
     mut visit: impl FnMut(usize, [[f32; 3]; 4], bool),
@@ -290,7 +327,7 @@ pub fn visit_row_faces(
     }
     let mut east: Option<East> = None;
     for i in columns {
-        if !has_faces(grid, i, j, k) {
+        if !drawn_cell(grid, [i, j, k], inactive) {
             continue;
         }
         let corner = |at: [usize; 2]| face_corner(grid, [i, j, k], face, at, origin);
@@ -320,12 +357,13 @@ pub fn visit_row_faces(
 /// `cut` counted as absent.
 fn one_layer(
     grid: &CornerPointGrid,
-    k: usize,
-    face: Face,
-    property: Option<&str>,
-    origin: [f64; 3],
-    (columns, cut): (&Columns, Option<&Columns>),
+    (k, face): (usize, Face),
+    request: &Surfaces,
+    columns: &Columns,
 ) -> Result<SurfaceMesh> {
+    let Surfaces {
+        property, origin, ..
+    } = *request;
     let nz = grid.dims().nz;
     if k >= nz {
         return Err(Error::Invalid(format!(
@@ -351,8 +389,8 @@ fn one_layer(
         .into_par_iter()
         .map(|c| {
             let cell = [seen_i.start + c % width, seen_j.start + c / width, k];
-            cut.is_none_or(|cut| cut.contains(cell[0], cell[1]))
-                && surface_face_corners(grid, cell, face, origin).is_some()
+            request.shows(grid, cell[0], cell[1], k)
+                && face_corners(grid, cell, face, origin, request.inactive).is_some()
         })
         .collect();
     let is_kept = |i: isize, j: isize| {
@@ -411,7 +449,10 @@ fn one_layer(
                     if let Some(v) = values {
                         let (sum, count) = (0..4)
                             .filter(|&m| present[m] && group[m] == g)
-                            .map(|m| v[[k, around[m].1 as usize, around[m].0 as usize]])
+                            .map(|m| {
+                                let (i, j) = (around[m].0 as usize, around[m].1 as usize);
+                                request.value_of(grid, v, [i, j, k])
+                            })
                             .filter(|x| !x.is_nan())
                             .fold((0f64, 0u32), |(s, c), x| (s + f64::from(x), c + 1));
                         mesh.scalars.push(if count == 0 {
@@ -439,7 +480,7 @@ fn one_layer(
             mesh.cell_faces.push(CellFace {
                 triangles: [t, t + 1],
                 cell: [i as u32, j as u32, k as u32],
-                value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
+                value: values.map_or(f32::NAN, |v| request.value_of(grid, v, [i, j, k])),
             });
         }
     }
@@ -454,22 +495,18 @@ pub fn layer_surfaces(
     request: &Surfaces,
 ) -> Result<SurfaceMesh> {
     let columns = request.columns_of(grid.dims())?;
-    let Surfaces {
-        property, origin, ..
-    } = *request;
-    let cut = request.cut.as_ref();
+    let origin = request.origin;
     if columns.is_empty() {
         return Ok(SurfaceMesh::with_origin(origin));
     }
     if request.layers.len() == 1 {
-        let k = request.layers.start;
-        return one_layer(grid, k, face, property, origin, (&columns, cut));
+        return one_layer(grid, (request.layers.start, face), request, &columns);
     }
     let meshes = request
         .layers
         .clone()
         .into_par_iter()
-        .map(|k| one_layer(grid, k, face, property, origin, (&columns, cut)))
+        .map(|k| one_layer(grid, (k, face), request, &columns))
         .collect::<Result<Vec<_>>>()?;
     let mut all = SurfaceMesh::with_origin(origin);
     for m in &meshes {
@@ -491,18 +528,18 @@ pub fn side_surfaces(grid: &CornerPointGrid, request: &Surfaces) -> Result<Surfa
     if columns.is_empty() {
         return Ok(SurfaceMesh::with_origin(request.origin));
     }
-    side_faces_among(
-        grid,
-        (request.layers.clone(), scene),
-        request.property,
-        request.origin,
-        (&columns, request.cut.as_ref()),
-    )
+    side_faces_among(grid, request, scene, &columns)
 }
 
 /// Whether cell `(i, j, k)` has faces on the surfaces: active and not pinched out.
 pub fn has_faces(grid: &CornerPointGrid, i: usize, j: usize, k: usize) -> bool {
-    grid.is_active(i, j, k) && !is_pinched(grid, i, j, k)
+    drawn_cell(grid, [i, j, k], false)
+}
+
+/// Whether cell `(i, j, k)` has faces on surfaces that show inactive cells
+/// (`inactive`) or not: not pinched out, and active unless inactive cells are shown.
+pub fn drawn_cell(grid: &CornerPointGrid, [i, j, k]: [usize; 3], inactive: bool) -> bool {
+    (inactive || grid.is_active(i, j, k)) && !is_pinched(grid, i, j, k)
 }
 
 /// Which side faces of cell `(i, j, k)`, one that [`has_faces`], are open (west,
@@ -551,11 +588,14 @@ fn face_has_area([a, b, c, d]: [[f32; 3]; 4]) -> bool {
 /// cells outside `cut` counted as absent.
 fn side_faces_among(
     grid: &CornerPointGrid,
-    (layers, scene): (Range<usize>, Range<usize>),
-    property: Option<&str>,
-    origin: [f64; 3],
-    (columns, cut): (&Columns, Option<&Columns>),
+    request: &Surfaces,
+    scene: Range<usize>,
+    columns: &Columns,
 ) -> Result<SurfaceMesh> {
+    let Surfaces {
+        property, origin, ..
+    } = *request;
+    let layers = request.layers.clone();
     let nz = grid.dims().nz;
     if scene.end > nz || layers.is_empty() || layers.start < scene.start || layers.end > scene.end {
         return Err(Error::Invalid(format!(
@@ -597,7 +637,7 @@ fn side_faces_among(
             .into_par_iter()
             .map(|c| {
                 let (i, j) = (tested_i.start + c % width, tested_j.start + c / width);
-                cut.is_none_or(|cut| cut.contains(i, j)) && has_faces(grid, i, j, k)
+                request.shows(grid, i, j, k)
             })
             .collect();
         let with_faces =
@@ -615,7 +655,8 @@ fn side_faces_among(
                         let cell = Cell {
                             ijk: [i, j, k],
                             centre: cell_centre(grid, origin, [i, j, k]),
-                            value: values.map_or(f32::NAN, |v| v[[k, j, i]]),
+                            value: values
+                                .map_or(f32::NAN, |v| request.value_of(grid, v, [i, j, k])),
                         };
                         (cell, open)
                     })
@@ -1198,7 +1239,7 @@ mod tests {
             let mut faces = m.cell_faces.iter();
             let (mut shared, mut before) = (0, None);
             for j in 0..d.ny {
-                let row = ([j, 3], 0..g.dims().nx);
+                let row = ([j, 3], 0..g.dims().nx, false);
                 visit_row_faces(&g, row, face, origin, |i, corners, west_given| {
                     let f = faces.next().expect("a face for each one visited");
                     assert_eq!(f.cell, [i as u32, j as u32, 3]);
