@@ -438,6 +438,19 @@ impl Scene {
         Ok(())
     }
 
+    /// The files the scene reads: the model, its property decks, a hierarchy. A front
+    /// end refuses to write over them.
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        let model = self.model.iter();
+        let mut inputs: Vec<PathBuf> = model
+            .flat_map(|m| std::iter::once(m.path.clone()).chain(m.props.iter().cloned()))
+            .collect();
+        if let Lod::Hierarchy { file, .. } = &self.lod {
+            inputs.push(file.clone());
+        }
+        inputs
+    }
+
     /// The drawn layers, 0-based and end-exclusive, of a model of `nz` layers; all
     /// when `None`.
     pub fn layer_range(&self, nz: usize) -> Result<Option<std::ops::Range<usize>>> {

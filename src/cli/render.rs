@@ -197,7 +197,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         Some(path) => Scene::load(path)?,
         None => args.scene()?,
     };
-    let mut inputs = scene_inputs(&scene);
+    let mut inputs = scene.inputs();
     inputs.extend(args.scene.clone());
     for output in std::iter::once(&args.output).chain(&args.save_scene) {
         super::refuse_overwriting(
@@ -212,19 +212,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     super::save_picture(&frame, &args.output)?;
     report(&args.output, &frame);
     Ok(())
-}
-
-/// The files `scene` reads.
-pub fn scene_inputs(scene: &Scene) -> Vec<PathBuf> {
-    let mut inputs: Vec<PathBuf> = scene
-        .model
-        .iter()
-        .flat_map(|m| std::iter::once(m.path.clone()).chain(m.props.iter().cloned()))
-        .collect();
-    if let Lod::Hierarchy { file, .. } = &scene.lod {
-        inputs.push(file.clone());
-    }
-    inputs
 }
 
 /// Draws `scene` with the library's engine, a bar on a terminal showing the passes

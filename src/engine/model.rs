@@ -2,7 +2,7 @@
 //! stray corners named, and the report step a scene asks for laid over its
 //! properties.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use strata_grid::{CornerPointGrid, ReadOptions, StrayCorners};
 
@@ -56,13 +56,6 @@ impl Model {
             step: None,
         };
         Ok((model, notes))
-    }
-
-    /// The files read, the model's and its property decks.
-    pub fn inputs(&self) -> Vec<PathBuf> {
-        std::iter::once(self.source.path.clone())
-            .chain(self.source.props.iter().cloned())
-            .collect()
     }
 
     /// Makes the arrays of report step `number` (SEQNUM) the values of their

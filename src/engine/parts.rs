@@ -3,8 +3,6 @@
 //! sides, each built, drawn and dropped before the next, so that a model of any size
 //! draws in about the memory of one part, and the picture is the one mesh's.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
-
 use strata_grid::{CornerPointGrid, SurfaceMesh};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
@@ -164,16 +162,15 @@ impl Parts {
         let adjust = scene.isolines.as_ref().map(|iso| iso.adjust);
         let (mut drawn, mut triangles) = (0, 0);
         let count = self.parts.len();
-        let done = AtomicUsize::new(0);
+        let mut done = 0;
         let mut queue = self.parts.iter();
         let (options, iso) = (&self.options, &self.iso);
         let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
             for part in queue.by_ref() {
+                done += 1;
                 if let Some(report) = progress {
-                    let done = done.fetch_add(1, Ordering::Relaxed) + 1;
-                    let stage = Stage::Parts;
                     report(Progress {
-                        stage,
+                        stage: Stage::Parts,
                         done,
                         total: count,
                     });
