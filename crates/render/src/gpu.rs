@@ -7,6 +7,8 @@ use crate::{Error, Result};
 
 /// An open device and what it can do.
 pub struct Gpu {
+    /// The adapter the device was opened on (a window asks it for surface formats).
+    pub adapter: wgpu::Adapter,
     /// Creates every buffer, texture and pipeline.
     pub device: wgpu::Device,
     /// Takes uploads and command buffers.
@@ -81,7 +83,27 @@ impl Gpu {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = backends;
         let instance = wgpu::Instance::new(desc);
+        Self::open(&instance, backends, None)
+    }
+
+    /// Opens the best adapter of `instance` that can present to `surface` (a
+    /// window's): the instance must know the window's display for OpenGL to present.
+    pub fn for_surface(instance: &wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self> {
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::all());
+        Self::open(instance, backends, Some(surface))
+    }
+
+    /// The best adapter among `backends` of `instance` (presenting to `surface` when
+    /// given), opened with the features and limits strata asks for.
+    fn open(
+        instance: &wgpu::Instance,
+        backends: wgpu::Backends,
+        surface: Option<&wgpu::Surface<'_>>,
+    ) -> Result<Self> {
         let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        if let Some(surface) = surface {
+            adapters.retain(|a| a.is_surface_supported(surface));
+        }
         let wanted_name = std::env::var("WGPU_ADAPTER_NAME")
             .ok()
             .map(|n| n.to_lowercase());
@@ -109,9 +131,14 @@ impl Gpu {
             return Err(Error::Unsuitable(unsuitable.join("; ")));
         }
         let adapter = adapters.into_iter().next().ok_or_else(|| {
+            let presenting = if surface.is_some() {
+                ", presenting to the window"
+            } else {
+                ""
+            };
             Error::NoAdapter(match &wanted_name {
-                Some(n) => format!("backends {backends:?}, name containing {n:?}"),
-                None => format!("backends {backends:?}"),
+                Some(n) => format!("backends {backends:?}{presenting}, name containing {n:?}"),
+                None => format!("backends {backends:?}{presenting}"),
             })
         })?;
         let info = adapter.get_info();
@@ -133,6 +160,7 @@ impl Gpu {
             message: e.to_string(),
         })?;
         Ok(Gpu {
+            adapter,
             device,
             queue,
             info,

@@ -17,6 +17,16 @@ use crate::wire::{
 };
 use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Style};
 
+/// What a drawn frame leaves behind.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// Its pixels, read back to memory: files, tests, screenshots.
+    Pixels,
+    /// Only the frame texture ([`Renderer::frame_texture`]), which a window shows
+    /// without the wait and copy of a readback.
+    Texture,
+}
+
 /// What to look at: camera, image size, and the scene's bounds (unscaled display
 /// frame) from which the depth range is fitted.
 #[derive(Clone, Copy, Debug)]
@@ -567,18 +577,52 @@ impl Renderer {
         view: &View,
         style: &Style,
     ) -> Result<RgbaImage> {
+        self.render_to(items, view, style, Output::Pixels)?
+            .ok_or_else(|| Error::Gpu("no pixels read back".into()))
+    }
+
+    /// Draws a frame into [`Renderer::frame_texture`], and with [`Output::Pixels`]
+    /// returns its pixels too.
+    pub fn render_to(
+        &mut self,
+        items: &[&dyn Drawable],
+        view: &View,
+        style: &Style,
+        output: Output,
+    ) -> Result<Option<RgbaImage>> {
         let scope = self
             .gpu
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let submitted = self
             .encode_frame(items, view, style)
-            .and_then(|encoder| self.submit_with_copy(encoder));
+            .and_then(|encoder| self.finish_frame(encoder, output));
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(e.to_string()));
         }
         submitted?;
-        self.read_pixels()
+        match output {
+            Output::Pixels => self.read_pixels().map(Some),
+            Output::Texture => Ok(None),
+        }
+    }
+
+    /// The texture the last frame was drawn into (RGBA8, not sRGB-encoded:
+    /// [`crate::wire::COLOR_FORMAT`]), `None` before the first frame. A window shows
+    /// it; it is replaced when the frame size changes.
+    pub fn frame_texture(&self) -> Option<&wgpu::Texture> {
+        self.targets.as_ref().map(|t| &t.color)
+    }
+
+    /// Submits `encoder`, with the copy into the readback buffer for `Output::Pixels`.
+    fn finish_frame(&self, encoder: wgpu::CommandEncoder, output: Output) -> Result<()> {
+        match output {
+            Output::Pixels => self.submit_with_copy(encoder),
+            Output::Texture => {
+                self.gpu.queue.submit([encoder.finish()]);
+                Ok(())
+            }
+        }
     }
 
     /// Draws a frame of parts that `next` makes one at a time (`None` when there are
@@ -592,8 +636,21 @@ impl Renderer {
         &mut self,
         view: &View,
         style: &Style,
-        mut next: impl FnMut(&mut Renderer) -> std::result::Result<Option<Box<dyn Drawable>>, E>,
+        next: impl FnMut(&mut Renderer) -> std::result::Result<Option<Box<dyn Drawable>>, E>,
     ) -> std::result::Result<RgbaImage, E> {
+        self.render_parts_to(view, style, Output::Pixels, next)?
+            .ok_or_else(|| Error::Gpu("no pixels read back".into()).into())
+    }
+
+    /// [`Renderer::render_parts`] into [`Renderer::frame_texture`], returning the
+    /// pixels with [`Output::Pixels`] only.
+    pub fn render_parts_to<E: From<Error>>(
+        &mut self,
+        view: &View,
+        style: &Style,
+        output: Output,
+        mut next: impl FnMut(&mut Renderer) -> std::result::Result<Option<Box<dyn Drawable>>, E>,
+    ) -> std::result::Result<Option<RgbaImage>, E> {
         if style.hidden != HiddenLines::Suppressed {
             return Err(Error::Invalid(format!(
                 "hidden lines {} need the whole scene at once; a scene drawn in parts suppresses them (tehs)",
@@ -635,8 +692,11 @@ impl Renderer {
             self.gpu.wait()?;
         }
         let encoder = self.gpu.device.create_command_encoder(&Default::default());
-        self.submit_with_copy(encoder)?;
-        Ok(self.read_pixels()?)
+        self.finish_frame(encoder, output)?;
+        match output {
+            Output::Pixels => Ok(Some(self.read_pixels()?)),
+            Output::Texture => Ok(None),
+        }
     }
 
     /// Submits `encoder` with the copy of the frame into the readback buffer after
