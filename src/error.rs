@@ -28,6 +28,17 @@ pub enum Error {
         /// What reading or parsing it said.
         message: String,
     },
+    /// The window: no display, an event loop or surface that failed.
+    #[error("window: {0}")]
+    Window(String),
+    /// A file the engine writes or a script names: its path and what went wrong.
+    #[error("{path}: {message}", path = .path.display())]
+    File {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What went wrong.
+        message: String,
+    },
     /// A step of the engine failed; `doing` says which, `source` why.
     #[error("{doing}: {source}")]
     While {

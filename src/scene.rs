@@ -272,6 +272,9 @@ pub struct CameraSpec {
     /// Look at the top of this column of cells (1-based I, J) instead of the middle
     /// of the model.
     pub centre: Option<[u32; 2]>,
+    /// Look at this point (map x, map y, depth, as the model's corners are given)
+    /// instead: where a window pans to or centres on a picked point.
+    pub target: Option<[f64; 3]>,
 }
 
 impl Default for CameraSpec {
@@ -282,6 +285,7 @@ impl Default for CameraSpec {
             distance: 1.0,
             z_scale: 5.0,
             centre: None,
+            target: None,
         }
     }
 }
@@ -655,6 +659,7 @@ mod tests {
                 distance: 0.3,
                 z_scale: 2.5,
                 centre: Some([10, 4]),
+                target: Some([456_500.5, 6_780_600.25, 1650.0]),
             },
             size: [640, 480],
             part_cells: 12_345,

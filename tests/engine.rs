@@ -392,3 +392,86 @@ fn inactive_cells_are_drawn_grey_on_request() {
     // The inactive corner of the layer (8 % of its cells) shows grey, lines aside.
     assert!(grey(&all) > 240 * 180 / 100, "{} grey pixels", grey(&all));
 }
+
+/// Picking names the cell under a pixel: the ray's point lies in the cell's column and
+/// between its top and bottom, at full resolution, on decimated surfaces (by their
+/// global coordinates) and in a hierarchy (by its nodes' layers) alike.
+#[test]
+fn a_pick_names_the_cell_under_the_pixel_at_every_level_of_detail() {
+    use strata::grid::open;
+    use strata::lod::{BuildOptions, build_file};
+    use strata::scene::Lod;
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let grid = open(&sample()).expect("the sample reads");
+    let lod = dir.path().join("sample.lod");
+    build_file(&grid, Some("PORO"), &lod, &BuildOptions::default()).expect("hierarchy built");
+    let camera = CameraSpec {
+        azimuth: 20.0,
+        elevation: 60.0,
+        ..CameraSpec::default()
+    };
+    let model = Scene {
+        camera,
+        ..small(Scene::of_model(sample()))
+    };
+    let decimated = Scene {
+        lod: Lod::Decimated {
+            percent: 20.0,
+            cover: false,
+            stitch: false,
+        },
+        ..model.clone()
+    };
+    let hierarchy = Scene {
+        camera,
+        ..small(Scene::of_hierarchy(&lod))
+    };
+    for (name, scene) in [
+        ("full", model),
+        ("decimated", decimated),
+        ("hierarchy", hierarchy),
+    ] {
+        let mut engine = SceneRenderer::new(scene).expect("scene");
+        assert!(
+            engine.pick(120.0, 90.0).is_err(),
+            "{name}: a pick before any frame"
+        );
+        engine.render().expect("a frame");
+        let mut picked = 0;
+        for (x, y) in [(120.0, 90.0), (90.0, 100.0), (150.0, 80.0), (110.0, 60.0)] {
+            let Some(pick) = engine.pick(x, y).expect("a pick") else {
+                continue;
+            };
+            picked += 1;
+            let [i, j, k] = pick.cell;
+            let corners = grid.cell_corners(i, j, k);
+            let (lo, hi) = corners.iter().fold(
+                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(lo, hi), c| {
+                    (
+                        std::array::from_fn(|a| lo[a].min(c[a])),
+                        std::array::from_fn(|a| hi[a].max(c[a])),
+                    )
+                },
+            );
+            // Within the cell's box, with a margin for the simplified surfaces' error
+            // (a pixel of a 240-pixel picture of a 2 km model is 8 m).
+            let margin = [10.0, 10.0, 10.0];
+            for a in 0..3 {
+                assert!(
+                    pick.point[a] >= lo[a] - margin[a] && pick.point[a] <= hi[a] + margin[a],
+                    "{name}: pixel ({x}, {y}) picked cell {:?} at {:?}, outside {lo:?}..{hi:?}",
+                    pick.cell,
+                    pick.point
+                );
+            }
+        }
+        assert!(
+            picked >= 3,
+            "{name}: only {picked} of 4 pixels picked a cell"
+        );
+        // A pixel in a corner of the picture shows the background.
+        assert_eq!(engine.pick(0.0, 0.0).expect("a pick"), None, "{name}");
+    }
+}

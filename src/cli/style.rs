@@ -138,6 +138,7 @@ impl FrameArgs {
             distance,
             z_scale: self.zscale,
             centre: self.centre,
+            target: None,
         };
         scene.size = [self.size.0, self.size.1];
     }

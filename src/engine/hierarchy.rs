@@ -4,6 +4,7 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::time::Instant;
 
 use strata_grid::SurfaceMesh;
@@ -12,9 +13,10 @@ use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
 use strata_render::wire::Drawable;
 use strata_render::{
-    Camera, CellDraw, IsolineOptions, Isolines, RangeAdjust, Renderer, TiledCells, WireMode,
+    Camera, CellDraw, IsolineOptions, Isolines, Output, RangeAdjust, Renderer, TiledCells, WireMode,
 };
 
+use super::pick::{Pick, Ray, global_column};
 use super::whole::technique;
 use super::{FrameReport, Note, look};
 use crate::error::Context;
@@ -37,6 +39,8 @@ pub struct Hierarchy {
     /// The stored property's range over the drawn layers' cells.
     scalar_range: Option<(f32, f32)>,
     wire: WireMode,
+    /// The nodes the last frame drew, which picking looks through.
+    last_chosen: Mutex<Vec<u32>>,
 }
 
 /// What a frame of a hierarchy draws: its camera, the nodes chosen, the side faces
@@ -125,7 +129,59 @@ impl Hierarchy {
             sides,
             scalar_range,
             wire,
+            last_chosen: Mutex::new(Vec::new()),
         })
+    }
+
+    /// The cell `ray` meets first among the nodes (and side faces) the last frame
+    /// drew, and where: the node's layer record gives the layer, its global
+    /// coordinates the column.
+    pub fn pick(&self, ray: &Ray) -> Result<Option<Pick>> {
+        let chosen = self
+            .last_chosen
+            .lock()
+            .map_err(|_| Error::scene("an earlier frame failed while choosing its nodes"))?
+            .clone();
+        let origin = self.file.origin();
+        let mut best: Option<(f32, Pick)> = None;
+        for node in chosen {
+            let mesh = self.file.mesh(node as usize)?;
+            let Some(hit) = ray.nearest(&mesh) else {
+                continue;
+            };
+            if best.as_ref().is_some_and(|(d, _)| *d <= hit.distance) {
+                continue;
+            }
+            let layer = self.file.nodes()[node as usize].layer as usize;
+            let k = self.file.layers()[layer].k as usize;
+            let [i, j] = global_column(&mesh, &hit);
+            let point = ray.map_point(hit.distance, origin);
+            best = Some((
+                hit.distance,
+                Pick {
+                    cell: [i, j, k],
+                    point,
+                },
+            ));
+        }
+        if let Some(sides) = &self.sides
+            && let Some(hit) = ray.nearest(sides)
+            && best.as_ref().is_none_or(|(d, _)| hit.distance < *d)
+            && let Some(face) = sides
+                .cell_faces
+                .iter()
+                .find(|f| f.triangles.contains(&(hit.triangle as u32)))
+        {
+            let point = ray.map_point(hit.distance, origin);
+            best = Some((
+                hit.distance,
+                Pick {
+                    cell: face.cell.map(|c| c as usize),
+                    point,
+                },
+            ));
+        }
+        Ok(best.map(|(_, pick)| pick))
     }
 
     /// The camera of `scene` and the nodes it needs at the scene's pixel error.
@@ -169,6 +225,7 @@ impl Hierarchy {
             Some([i, j]) => camera.centred_on(column_top(file, &self.drawn, [i - 1, j - 1])?),
             None => camera,
         };
+        let camera = look::aimed(scene, camera, file.origin());
         let chosen = choose(&camera, pixels, true);
         let sides = self
             .sides
@@ -225,7 +282,12 @@ impl Hierarchy {
 impl Hierarchy {
     /// Draws a frame of `scene`: the nodes its camera needs, over the model's cells
     /// where the technique finds them by the global coordinates.
-    pub fn draw(&self, renderer: &mut Renderer, scene: &Scene) -> Result<(RgbaImage, FrameReport)> {
+    pub fn draw(
+        &self,
+        renderer: &mut Renderer,
+        scene: &Scene,
+        output: Output,
+    ) -> Result<(Option<RgbaImage>, FrameReport)> {
         let Plan {
             camera,
             mut chosen,
@@ -317,12 +379,15 @@ impl Hierarchy {
             ),
             None => None,
         };
+        if let Ok(mut last) = self.last_chosen.lock() {
+            last.clone_from(&chosen);
+        }
         let drawables: Vec<&dyn Drawable> = drawable
             .as_deref()
             .into_iter()
             .chain(side_drawable.as_deref())
             .collect();
-        let image = renderer.render(&drawables, &view, &style)?;
+        let image = renderer.render_to(&drawables, &view, &style, output)?;
         let side_triangles = sides.as_ref().map_or(0, SurfaceMesh::triangle_count);
         let drawn = format!(
             "drawn with the {} wireframe{}, {}{}{}",
@@ -374,6 +439,7 @@ impl Hierarchy {
                 .map(|r| ("stored property".to_string(), r)),
             coverage: style.coverage,
             notes,
+            view: Some((view, mesh.origin)),
             ..FrameReport::default()
         };
         Ok((image, report))

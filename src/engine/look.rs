@@ -1,6 +1,7 @@
 //! What a frame takes from a scene besides geometry: the render style (lines,
 //! colours, isolines, grid lines) and the view (framing, camera, size).
 
+use strata_grid::CornerPointGrid;
 use strata_render::glam::Vec3;
 use strata_render::wgpu::DeviceType;
 use strata_render::{
@@ -102,6 +103,15 @@ pub fn aspect(scene: &Scene) -> f32 {
 pub fn framing(scene: &Scene, framed: Option<[[f32; 3]; 2]>) -> Framing {
     let c = &scene.camera;
     framing_of(framed, c.z_scale, aspect(scene), (c.azimuth, c.elevation))
+}
+
+/// `camera` moved sideways to look at the scene's camera target, when it has one
+/// (`origin`: the display origin of the positions drawn).
+pub fn aimed(scene: &Scene, camera: Camera, origin: [f64; 3]) -> Camera {
+    match scene.camera.target {
+        Some(target) => camera.centred_on(Vec3::from(CornerPointGrid::to_display(origin, target))),
+        None => camera,
+    }
 }
 
 /// The view of `scene` through `camera` (at the scene's distance already), over

@@ -30,13 +30,15 @@ mod hierarchy;
 mod look;
 mod model;
 mod parts;
+mod pick;
 mod whole;
 
 use std::time::Instant;
 
 pub use model::{Model, stray_warning};
-use strata_render::Renderer;
+pub use pick::Pick;
 use strata_render::image::RgbaImage;
+use strata_render::{Output, Renderer, View};
 
 use crate::progress::ProgressFn;
 use crate::scene::{Lod, Scene};
@@ -97,6 +99,9 @@ pub struct FrameReport {
     pub draw_seconds: f64,
     /// What reading, building and drawing had to say, in order.
     pub notes: Vec<Note>,
+    /// The view drawn (camera, size, depth range) and the display origin of the
+    /// positions drawn: what picking and a window's mouse work from.
+    pub view: Option<(View, [f64; 3])>,
 }
 
 /// What a frame draws from: see the module docs.
@@ -116,6 +121,7 @@ pub struct SceneRenderer {
     pending: Vec<Note>,
     progress: Option<Box<ProgressFn>>,
     counters: Counters,
+    last_view: Option<(View, [f64; 3])>,
 }
 
 impl SceneRenderer {
@@ -131,6 +137,7 @@ impl SceneRenderer {
             pending: Vec::new(),
             progress: None,
             counters: Counters::default(),
+            last_view: None,
         })
     }
 
@@ -181,8 +188,48 @@ impl SceneRenderer {
     }
 
     /// Reads the model and builds the content where they are not held, then draws
-    /// a frame of the scene.
+    /// a frame of the scene and reads its pixels back.
     pub fn render(&mut self) -> Result<Frame> {
+        let (image, mut report) = self.frame(Output::Pixels)?;
+        let image = image.ok_or_else(|| Error::scene("no pixels read back"))?;
+        report.blank = background_only(&image, &self.scene);
+        Ok(Frame { image, report })
+    }
+
+    /// Draws a frame as [`SceneRenderer::render`] does, but leaves it in the
+    /// renderer's frame texture ([`Renderer::frame_texture`]) for a window to show,
+    /// without reading it back.
+    pub fn draw(&mut self) -> Result<FrameReport> {
+        self.frame(Output::Texture).map(|(_, report)| report)
+    }
+
+    /// The cell under pixel `(x, y)` (from the top left) of the last frame drawn, and
+    /// the point hit; `None` where the pixel shows no cell.
+    pub fn pick(&self, x: f32, y: f32) -> Result<Option<Pick>> {
+        let (view, _) = self
+            .last_view
+            .ok_or_else(|| Error::scene("nothing drawn yet to pick from"))?;
+        let ray = pick::Ray::through(&view, x, y);
+        match &self.content {
+            Some(Content::Whole(whole)) => {
+                let model = self.model.as_ref().ok_or_else(no_model)?;
+                Ok(whole.pick(&ray, model))
+            }
+            Some(Content::Parts(_)) => Err(Error::scene(
+                "a scene drawn in parts holds no mesh to pick from; pick in a smaller \
+                 selection of layers or columns, or in its hierarchy",
+            )),
+            Some(Content::Hierarchy(hierarchy)) => hierarchy.pick(&ray),
+            None => Err(Error::scene("nothing built to pick from")),
+        }
+    }
+
+    /// The frame drawn last: its view and display origin (for picking).
+    pub fn last_view(&self) -> Option<(View, [f64; 3])> {
+        self.last_view
+    }
+
+    fn frame(&mut self, output: Output) -> Result<(Option<RgbaImage>, FrameReport)> {
         let start = Instant::now();
         self.ensure_content()?;
         let built = start.elapsed().as_secs_f64();
@@ -191,24 +238,26 @@ impl SceneRenderer {
         let scene = &self.scene;
         let progress = self.progress.as_deref();
         let (image, mut report) = match self.content.as_mut() {
-            Some(Content::Whole(whole)) => whole.draw(renderer, self.model.as_ref(), scene)?,
+            Some(Content::Whole(whole)) => {
+                whole.draw(renderer, self.model.as_ref(), scene, output)?
+            }
             Some(Content::Parts(parts)) => {
                 let model = self.model.as_ref().ok_or_else(no_model)?;
-                parts.draw(renderer, model, scene, progress)?
+                parts.draw(renderer, model, scene, progress, output)?
             }
-            Some(Content::Hierarchy(hierarchy)) => hierarchy.draw(renderer, scene)?,
+            Some(Content::Hierarchy(hierarchy)) => hierarchy.draw(renderer, scene, output)?,
             None => return Err(Error::scene("nothing built to draw")),
         };
         report.build_seconds = built;
         report.draw_seconds = drawing.elapsed().as_secs_f64();
         report.technique = scene.wire.technique.name();
         report.adapter = renderer.gpu.describe();
-        report.blank = background_only(&image, scene);
         let mut notes = std::mem::take(&mut self.pending);
         notes.append(&mut report.notes);
         report.notes = notes;
+        self.last_view = report.view;
         self.counters.frames += 1;
-        Ok(Frame { image, report })
+        Ok((image, report))
     }
 
     /// A hierarchy scene's choice of nodes for its camera, in words, without drawing

@@ -6,7 +6,7 @@
 use strata_grid::{CornerPointGrid, SurfaceMesh};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
-use strata_render::{HiddenLines, IsolineOptions, Renderer, WireMode};
+use strata_render::{HiddenLines, IsolineOptions, Output, Renderer, WireMode};
 
 use super::whole::{colouring, corner_field, field_options, scene_options};
 use super::{FrameReport, Model, look};
@@ -113,7 +113,8 @@ impl Parts {
         model: &Model,
         scene: &Scene,
         progress: Option<&ProgressFn>,
-    ) -> Result<(RgbaImage, FrameReport)> {
+        output: Output,
+    ) -> Result<(Option<RgbaImage>, FrameReport)> {
         let grid = &model.grid;
         let origin = grid.display_origin();
         let isolines = self
@@ -147,6 +148,7 @@ impl Parts {
             )?)),
             None => camera,
         };
+        let camera = look::aimed(scene, camera, origin);
         let view = look::view(scene, camera, bounds);
         // What a part shows: its faces not wholly off the picture, which would draw no
         // pixel. In a close-up most go, and most of the layers' faces are not even
@@ -165,7 +167,7 @@ impl Parts {
         let mut done = 0;
         let mut queue = self.parts.iter();
         let (options, iso) = (&self.options, &self.iso);
-        let image = renderer.render_parts(&view, &style, |r| -> Result<_> {
+        let image = renderer.render_parts_to(&view, &style, output, |r| -> Result<_> {
             for part in queue.by_ref() {
                 done += 1;
                 if let Some(report) = progress {
@@ -210,6 +212,7 @@ impl Parts {
             ),
             colouring: colouring(&self.options, style.scalar_range),
             coverage: style.coverage,
+            view: Some((view, origin)),
             ..FrameReport::default()
         };
         Ok((image, report))

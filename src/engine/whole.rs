@@ -5,9 +5,10 @@ use strata_grid::SurfaceMesh;
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
 use strata_render::wire::Drawable;
-use strata_render::{IsolineOptions, Renderer, WireMode};
+use strata_render::{IsolineOptions, Output, Renderer, WireMode};
 
 use super::decimated::{self, Decimation};
+use super::pick::{Pick, Ray, hit_cell};
 use super::{FrameReport, Model, Note, look};
 use crate::error::Context;
 use crate::scene::{Lod, Scene};
@@ -144,13 +145,30 @@ impl Whole {
         Ok((whole, notes))
     }
 
+    /// The cell `ray` meets first, and where.
+    pub fn pick(&self, ray: &Ray, model: &Model) -> Option<Pick> {
+        let hit = ray.nearest(&self.mesh)?;
+        let point = ray.map_point(hit.distance, self.mesh.origin);
+        let nz = model.grid.dims().nz;
+        let layers = self
+            .options
+            .layers
+            .as_ref()
+            .map_or([0, nz.saturating_sub(1)], |r| {
+                [r.start, r.end.saturating_sub(1)]
+            });
+        let cell = hit_cell(&self.mesh, &hit, point[2], &model.grid, layers)?;
+        Some(Pick { cell, point })
+    }
+
     /// Frames the mesh as `scene`'s camera sees it and draws it.
     pub fn draw(
         &self,
         renderer: &mut Renderer,
         model: Option<&Model>,
         scene: &Scene,
-    ) -> Result<(RgbaImage, FrameReport)> {
+        output: Output,
+    ) -> Result<(Option<RgbaImage>, FrameReport)> {
         let mesh = &self.mesh;
         let stray = model.and_then(|m| m.stray.as_ref());
         let mut framing = look::framing(scene, stray.map(|s| s.rest.to_display(mesh.origin)));
@@ -168,6 +186,7 @@ impl Whole {
             )?)),
             _ => camera,
         };
+        let camera = look::aimed(scene, camera, mesh.origin);
         let view = look::view(scene, camera, bounds);
         let isolines = match (&scene.isolines, self.iso_range) {
             (Some(spec), Some(range)) => Some(look::isolines(spec, range)),
@@ -180,12 +199,13 @@ impl Whole {
             [mesh.origin[0], mesh.origin[1]],
             isolines,
         )?;
-        let image = renderer.render(&[self.drawable.as_ref()], &view, &style)?;
+        let image = renderer.render_to(&[self.drawable.as_ref()], &view, &style, output)?;
         let report = FrameReport {
             triangles: mesh.triangle_count(),
             drawn: format!("{} triangles", mesh.triangle_count()),
             colouring: colouring(&self.options, style.scalar_range),
             coverage: style.coverage,
+            view: Some((view, mesh.origin)),
             ..FrameReport::default()
         };
         Ok((image, report))
