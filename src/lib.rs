@@ -31,6 +31,7 @@ pub use strata_render as render;
 
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod cell;
 pub mod engine;
 mod error;
 pub mod memory;
@@ -38,6 +39,8 @@ pub mod metrics;
 pub mod progress;
 pub mod scene;
 pub mod surfaces;
+#[cfg(feature = "viewer")]
+pub mod viewer;
 
 pub use engine::{Counters, Frame, FrameReport, Note, SceneRenderer};
 pub use error::{Context, Error, Result};

@@ -28,6 +28,10 @@ enum Command {
     /// Levels of detail: build a model's hierarchy file, or view one.
     #[command(subcommand)]
     Lod(cli::lod::LodCommand),
+    /// The interactive window: turn the model, edit the scene in a side panel, pick
+    /// cells (`--script` runs it unattended).
+    #[cfg(feature = "viewer")]
+    View(Box<cli::view::ViewArgs>),
     /// Benchmarks (on demand; print a table, or JSON with --json); in builds with
     /// `--features bench`.
     Bench(cli::bench::BenchArgs),
@@ -47,6 +51,8 @@ fn main() -> ExitCode {
         Command::Terrain(args) => cli::terrain::run(&args),
         Command::Lod(command) => cli::lod::run(&command),
         Command::Bench(args) => cli::bench::run(args),
+        #[cfg(feature = "viewer")]
+        Command::View(args) => cli::view::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

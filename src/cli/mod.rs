@@ -16,6 +16,8 @@ pub mod render;
 pub mod style;
 pub mod synth;
 pub mod terrain;
+#[cfg(feature = "viewer")]
+pub mod view;
 
 /// How the commands that read a model read it.
 #[derive(Args)]
