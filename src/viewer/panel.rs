@@ -205,7 +205,7 @@ fn lines(ui: &mut Ui, scene: &mut Scene, facts: &Facts) {
                 ui.text_edit_singleline(&mut wire.color);
             });
             ComboBox::from_id_salt("attenuate")
-                .selected_text(format!("{:?}", wire.attenuate))
+                .selected_text(format!("attenuate: {:?}", wire.attenuate))
                 .show_ui(ui, |ui| {
                     for a in [Attenuate::None, Attenuate::Intensity, Attenuate::Thickness] {
                         ui.selectable_value(&mut wire.attenuate, a, format!("{a:?}"));
