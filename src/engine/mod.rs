@@ -168,6 +168,21 @@ impl SceneRenderer {
         self.model.as_ref()
     }
 
+    /// Reads the scene's model where it is not held yet, without building anything:
+    /// what a front end looks at (the cell count, say) before it settles the scene.
+    pub fn open_model(&mut self) -> Result<Option<&Model>> {
+        if self.model.is_none()
+            && let Some(source) = &self.scene.model
+            && !matches!(self.scene.lod, Lod::Hierarchy { .. })
+        {
+            let (model, notes) = Model::open(source)?;
+            self.pending.extend(notes);
+            self.model = Some(model);
+            self.counters.models_read += 1;
+        }
+        Ok(self.model.as_ref())
+    }
+
     /// The GPU renderer, opened on first use.
     pub fn renderer(&mut self) -> Result<&mut Renderer> {
         opened(&mut self.renderer)
@@ -285,13 +300,7 @@ impl SceneRenderer {
             self.counters.contents_built += 1;
             return Ok(());
         }
-        if self.model.is_none() {
-            let source = self.scene.model.as_ref().ok_or_else(no_model)?;
-            let (model, notes) = Model::open(source)?;
-            self.pending.extend(notes);
-            self.model = Some(model);
-            self.counters.models_read += 1;
-        }
+        self.open_model()?;
         let model = self.model.as_mut().ok_or_else(no_model)?;
         model.use_step(self.scene.colour.step)?;
         let scene = &self.scene;

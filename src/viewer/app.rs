@@ -11,9 +11,10 @@ use strata_render::Renderer;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::WindowEvent;
-use winit::event_loop::ActiveEventLoop;
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::window::{Window, WindowId};
 
+use super::background::{self, Build};
 use super::panel::{self, Facts, PanelState, Request};
 use super::script::{Command, set_field};
 use super::stats::{FrameStat, Stats, Summary, write_json};
@@ -21,6 +22,7 @@ use super::window::{self, WindowGpu};
 use super::{Options, controls};
 use crate::cell::CellInfo;
 use crate::engine::Pick;
+use crate::scene::Lod;
 use crate::{Error, FrameReport, Result, Scene, SceneRenderer};
 
 /// The window and everything it holds between frames.
@@ -43,6 +45,10 @@ pub struct App {
     failure: Option<Error>,
     played: Instant,
     shots: usize,
+    /// The hierarchy being built behind a preview, and the scene asked for.
+    build: Option<(Build, Scene)>,
+    /// When the last frame was drawn.
+    drawn: Instant,
 }
 
 /// A script being run: the lines left, and the frames the current one still takes.
@@ -94,6 +100,8 @@ impl App {
             failure: None,
             played: Instant::now(),
             shots: 0,
+            build: None,
+            drawn: Instant::now(),
         }
     }
 
@@ -130,14 +138,81 @@ impl App {
             Some(max_texture),
         ));
         self.window = Some(window_gpu);
+        if let Err(e) = self.settle_scene() {
+            self.panel.error = Some(e.to_string());
+        }
         window.request_redraw();
         Ok(())
+    }
+
+    /// A model too large to draw whole opens on its hierarchy kept beside it, or on a
+    /// preview while the hierarchy is built ([`background`]).
+    fn settle_scene(&mut self) -> Result<()> {
+        let Some(source) = self.scene.model.clone() else {
+            return Ok(());
+        };
+        if self.scene.lod != Lod::Full {
+            return Ok(());
+        }
+        if let Some(lod) = background::kept(&source.path) {
+            self.scene = background::on_hierarchy(&self.scene, &lod);
+            return Ok(());
+        }
+        let Some(engine) = self.engine.as_mut() else {
+            return Ok(());
+        };
+        let Some(model) = engine.open_model()? else {
+            return Ok(());
+        };
+        if (model.grid.active_count() as u64) <= self.scene.part_cells {
+            return Ok(());
+        }
+        let property = self
+            .scene
+            .colour
+            .property
+            .clone()
+            .or_else(|| model.grid.property("PORO").map(|_| "PORO".to_string()));
+        let asked = self.scene.clone();
+        self.scene = background::preview(&asked, model);
+        let build = Build::start(
+            source.clone(),
+            property,
+            background::destination(&source.path),
+        );
+        self.build = Some((build, asked));
+        Ok(())
+    }
+
+    /// Follows the hierarchy's build: the scene asked for, on the hierarchy, once it is
+    /// done (`wait`: blocking until then).
+    fn follow_build(&mut self, wait: bool) {
+        let Some((build, asked)) = &mut self.build else {
+            return;
+        };
+        let Some(finished) = build.finished(wait) else {
+            return;
+        };
+        match finished {
+            Ok(path) => {
+                let asked = Scene {
+                    camera: self.scene.camera,
+                    size: self.scene.size,
+                    ..asked.clone()
+                };
+                self.scene = background::on_hierarchy(&asked, &path);
+                self.panel.message = Some(format!("hierarchy built: {}", path.display()));
+            }
+            Err(e) => self.panel.error = Some(format!("building the hierarchy: {e}")),
+        }
+        self.build = None;
     }
 
     /// One frame: script, panel and gestures, the engine's frame, painting, and what
     /// the script asked to be done with the frame.
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let start = Instant::now();
+        self.follow_build(false);
         let after = self.run_script();
         self.play();
         let (Some(window), Some(state)) = (&self.window, &mut self.egui_state) else {
@@ -182,11 +257,18 @@ impl App {
     fn ui(&mut self, ui: &mut egui::Ui, gestures: &mut Gestures) {
         let facts = self.facts.clone().unwrap_or_default();
         let stat = self.stats.last().cloned();
+        let building = self.build.as_ref().map(|(build, _)| build.fraction());
         egui::Panel::right("scene")
             .default_size(300.0)
             .show(ui, |ui| {
-                gestures.requests =
-                    panel::show(ui, &mut self.scene, &facts, &mut self.panel, stat.as_ref());
+                gestures.requests = panel::show(
+                    ui,
+                    &mut self.scene,
+                    &facts,
+                    &mut self.panel,
+                    stat.as_ref(),
+                    building,
+                );
             });
         egui::CentralPanel::no_frame().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
@@ -302,6 +384,12 @@ impl App {
     fn draw_scene(&mut self) -> Option<FrameReport> {
         let engine = self.engine.as_mut()?;
         let fresh = self.scene != self.good;
+        let held = engine.renderer().is_ok_and(|r| r.frame_texture().is_some());
+        if !fresh && held && self.script.is_none() && engine.counters().frames > 0 {
+            // The frame on screen is this scene's: only the panel is painted again.
+            return None;
+        }
+        self.drawn = Instant::now();
         let drawn = engine
             .set_scene(self.scene.clone())
             .and_then(|()| engine.draw());
@@ -364,7 +452,10 @@ impl App {
                     runner.frames = n.saturating_sub(1);
                     return Vec::new();
                 }
-                Command::Wait => {}
+                Command::Wait => {
+                    self.follow_build(true);
+                    return Vec::new();
+                }
                 after => return vec![after],
             }
         }
@@ -554,11 +645,21 @@ impl ApplicationHandler for App {
         }
     }
 
-    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
-        if let Some(window) = &self.window
-            && (self.script.is_some() || self.panel.playing)
-        {
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(window) = &self.window else {
+            return;
+        };
+        if self.script.is_some() || self.panel.playing {
             window.window.request_redraw();
+        } else if self.build.is_some() {
+            // The progress bar moves twice a second; the build keeps the cores.
+            let next = self.drawn + std::time::Duration::from_millis(500);
+            if Instant::now() >= next {
+                window.window.request_redraw();
+            }
+            event_loop.set_control_flow(ControlFlow::WaitUntil(next));
+        } else {
+            event_loop.set_control_flow(ControlFlow::Wait);
         }
     }
 }

@@ -17,6 +17,7 @@
 //! beside it on any surface format.
 
 mod app;
+mod background;
 mod controls;
 mod panel;
 mod script;

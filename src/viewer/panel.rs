@@ -57,9 +57,16 @@ pub fn show(
     facts: &Facts,
     state: &mut PanelState,
     stat: Option<&FrameStat>,
+    building: Option<f32>,
 ) -> Vec<Request> {
     let mut requests = Vec::new();
     egui::ScrollArea::vertical().show(ui, |ui| {
+        if let Some(fraction) = building {
+            ui.add(
+                egui::ProgressBar::new(fraction)
+                    .text(format!("building the hierarchy: {:.0} %", 100.0 * fraction)),
+            );
+        }
         if let Some(error) = &state.error {
             ui.colored_label(egui::Color32::from_rgb(200, 30, 30), error);
         }

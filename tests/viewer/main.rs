@@ -316,3 +316,82 @@ fn bad_input_in_the_window_is_shown_and_the_last_good_scene_stays() {
         "the last good scene is not what is drawn"
     );
 }
+
+/// A model larger than a scene draws whole opens on a decimated preview of its top
+/// layer while its hierarchy is built beside it; the window then draws the hierarchy,
+/// picks in it, and opens on it directly next time.
+#[test]
+fn a_large_model_opens_on_a_preview_while_its_hierarchy_is_built() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::copy(sample(), dir.path().join("sample.grdecl")).expect("sample copied");
+    // The sample's 4714 active cells count as large with parts of 1000.
+    let scene = r#"{"model": {"path": "sample.grdecl"}, "part_cells": 1000}"#;
+    std::fs::write(dir.path().join("scene.json"), scene).expect("scene written");
+    let script = "frames 2\nwait\nframes 2\npick 300 300\n";
+    let args = [
+        "--scene",
+        "scene.json",
+        "--size",
+        "900x700",
+        "--stats",
+        "stats.json",
+    ];
+    let out = view(dir.path(), &args, script, None);
+    assert!(
+        dir.path().join("sample.lod").is_file(),
+        "no hierarchy beside the model"
+    );
+    let stats: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("stats.json")).expect("stats written"),
+    )
+    .expect("stats JSON");
+    let drawn: Vec<&str> = stats["frames"]
+        .as_array()
+        .expect("frames")
+        .iter()
+        .filter_map(|f| f["drawn"].as_str())
+        .collect();
+    // The preview: the top layer's 36 x 24 cells, its top and bottom faces (at most
+    // 3456 triangles, decimated where there are more than the preview keeps); then
+    // the hierarchy's nodes.
+    let preview: usize = drawn[0]
+        .strip_suffix(" triangles")
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("the first frame drew {:?}", drawn[0]));
+    assert!(preview > 0 && preview <= 3456, "the preview drew {preview} triangles");
+    let last = drawn.last().expect("frames drawn");
+    assert!(
+        last.contains("wireframe"),
+        "the last frame drew {last:?}, not the hierarchy"
+    );
+    let pick: Value = out
+        .lines()
+        .find_map(|l| {
+            serde_json::from_str::<Value>(l)
+                .ok()
+                .filter(|v| v.get("pick").is_some())
+        })
+        .unwrap_or_else(|| panic!("no pick printed: {out}"));
+    assert!(
+        pick["pick"]["ijk"].is_array(),
+        "no cell picked in the hierarchy: {pick}"
+    );
+    assert!(
+        pick["pick"]["cell"]["values"].is_array(),
+        "no values picked: {pick}"
+    );
+    // Next time the hierarchy beside the model is opened at once.
+    let out = view(dir.path(), &args, "frames 2\n", None);
+    let stats: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("stats.json")).expect("stats written"),
+    )
+    .expect("stats JSON");
+    let first = stats["frames"][0]["drawn"]
+        .as_str()
+        .unwrap_or_default()
+        .to_string();
+    assert!(
+        first.contains("wireframe"),
+        "reopened on {first:?}, not the hierarchy; {out}"
+    );
+}
