@@ -33,6 +33,7 @@ pub use strata_render as render;
 pub mod bench;
 pub mod engine;
 mod error;
+pub mod legend;
 pub mod memory;
 pub mod metrics;
 pub mod progress;

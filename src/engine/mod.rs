@@ -27,6 +27,7 @@
 
 mod decimated;
 mod hierarchy;
+mod legend;
 mod look;
 mod model;
 mod parts;
@@ -116,6 +117,8 @@ pub struct SceneRenderer {
     pending: Vec<Note>,
     progress: Option<Box<ProgressFn>>,
     counters: Counters,
+    /// The legend the renderer shows.
+    legend: legend::Shown,
 }
 
 impl SceneRenderer {
@@ -131,6 +134,7 @@ impl SceneRenderer {
             pending: Vec::new(),
             progress: None,
             counters: Counters::default(),
+            legend: legend::Shown::default(),
         })
     }
 
@@ -189,6 +193,10 @@ impl SceneRenderer {
         let drawing = Instant::now();
         let renderer = opened(&mut self.renderer)?;
         let scene = &self.scene;
+        if let Some(content) = &self.content {
+            let built = (content, self.counters.contents_built);
+            (self.legend).update(scene, built, self.model.as_ref(), renderer)?;
+        }
         let progress = self.progress.as_deref();
         let (image, mut report) = match self.content.as_mut() {
             Some(Content::Whole(whole)) => whole.draw(renderer, self.model.as_ref(), scene)?,
@@ -203,7 +211,7 @@ impl SceneRenderer {
         report.draw_seconds = drawing.elapsed().as_secs_f64();
         report.technique = scene.wire.technique.name();
         report.adapter = renderer.gpu.describe();
-        report.blank = background_only(&image, scene);
+        report.blank = background_only(&image, scene, self.legend.area(&image));
         let mut notes = std::mem::take(&mut self.pending);
         notes.append(&mut report.notes);
         report.notes = notes;
@@ -262,14 +270,20 @@ impl SceneRenderer {
 }
 
 /// Whether `image` is `scene`'s background alone (black with lines in isolation,
-/// white otherwise).
-fn background_only(image: &RgbaImage, scene: &Scene) -> bool {
+/// white otherwise) outside the legend's `area` (`[x0, y0, x1, y1)`).
+fn background_only(image: &RgbaImage, scene: &Scene, area: Option<[i64; 4]>) -> bool {
     let clear = if scene.wire.isolation {
         [0, 0, 0, 255]
     } else {
         [255; 4]
     };
-    image.pixels().all(|p| p.0 == clear)
+    let legend = |x: u32, y: u32| {
+        let (x, y) = (i64::from(x), i64::from(y));
+        area.is_some_and(|[x0, y0, x1, y1]| x >= x0 && x < x1 && y >= y0 && y < y1)
+    };
+    image
+        .enumerate_pixels()
+        .all(|(x, y, p)| p.0 == clear || legend(x, y))
 }
 
 /// The renderer in `slot`, opened on the best adapter found when there is none yet.
