@@ -166,7 +166,9 @@ impl Colouring {
         match (self.scale, self.range) {
             (Scale::Log, Some([lo, hi])) if lo <= 0.0 => Err(Error::scene(format!(
                 "colour: a log scale of {} needs a positive range, not [{lo}, {hi}]",
-                self.property.as_deref().unwrap_or("the default property (PORO)")
+                self.property
+                    .as_deref()
+                    .unwrap_or("the default property (PORO)")
             ))),
             (Scale::Categorical, _) if self.smooth => Err(Error::scene(
                 "colour: a categorical scale paints each cell its code's colour; codes are \
@@ -704,7 +706,8 @@ mod tests {
 
     #[test]
     fn scales_and_the_legend_default_and_are_checked() {
-        let with = |colour: &str| format!(r#"{{"model": {{"path": "m.grdecl"}}, "colour": {colour}}}"#);
+        let with =
+            |colour: &str| format!(r#"{{"model": {{"path": "m.grdecl"}}, "colour": {colour}}}"#);
         // A scene written before scales and legends reads as linear, with a legend.
         let old = Scene::from_json(&with(r#"{"colormap": "turbo"}"#)).expect("reads");
         assert_eq!((old.colour.scale, old.legend), (Scale::Linear, true));
@@ -722,7 +725,9 @@ mod tests {
             ),
         ];
         for (colour, expect) in errors {
-            let message = Scene::from_json(&with(colour)).expect_err(colour).to_string();
+            let message = Scene::from_json(&with(colour))
+                .expect_err(colour)
+                .to_string();
             assert!(message.contains(expect), "{colour}: {message}");
         }
     }

@@ -25,6 +25,9 @@ pub struct Layout {
     pub font: f32,
     /// The colour bar inside its border, `[x0, y0, x1, y1)`: the high end at the top.
     pub bar: Option<[u32; 4]>,
+    /// Each tick's row, and whether it is labelled: a label closer than a line to
+    /// one already placed (the range's ends first) is left out, its mark kept.
+    pub ticks: Vec<(u32, bool)>,
     /// Each code's swatch inside its border, as `bar`, top to bottom.
     pub swatches: Vec<[u32; 4]>,
     /// The codes listed (the others are counted in a last line).
@@ -56,6 +59,7 @@ impl Legend {
         let unit = |f: f32| (f * s).round() as u32;
         let (pad, margin, title_h) = (unit(0.7), unit(0.8), unit(1.3));
         let title_w = width_of(&self.title());
+        let mut rows = Vec::new();
         let (body_w, body_h, bar, swatches, listed) = match &self.entries {
             Entries::Ticks(ticks) => {
                 let labels = ticks.iter().map(|t| width_of(&t.label)).max().unwrap_or(0);
@@ -64,13 +68,18 @@ impl Legend {
                 // Half a label's height above and below, for the end labels.
                 let top = pad + title_h + unit(0.6);
                 let bar = [pad + 1, top + 1, pad + 1 + bar_w, top + 1 + bar_h];
+                rows = tick_rows(ticks.iter().map(|t| t.fraction), bar, 1.15 * s);
                 let w = bar_w + 2 + tick + gap + labels;
                 (w, bar_h + 2 + unit(1.2), Some(bar), Vec::new(), 0)
             }
             Entries::Codes(codes) => {
                 let row = unit(1.5);
                 let rows = ((0.8 * height as f32) as u32 / row.max(1)).max(2) as usize;
-                let listed = if codes.len() > rows { rows - 1 } else { codes.len() };
+                let listed = if codes.len() > rows {
+                    rows - 1
+                } else {
+                    codes.len()
+                };
                 let labels = codes.iter().take(listed).map(|c| width_of(&code_label(c)));
                 let more = width_of(&more_label(codes.len() - listed));
                 let labels = labels.max().unwrap_or(0).max(more);
@@ -92,6 +101,7 @@ impl Legend {
             size: [panel_w + margin, pad + title_h + body_h + pad],
             font: s,
             bar,
+            ticks: rows,
             swatches,
             listed,
         })
@@ -116,16 +126,16 @@ impl Legend {
         match (&self.entries, layout.bar) {
             (Entries::Ticks(ticks), Some(bar)) => {
                 draw_bar(&mut image, bar, &self.colormap.table());
-                let [_, y0, x1, y1] = bar;
+                let x1 = bar[2];
                 let (tick, gap) = (unit(0.4), unit(0.3));
                 let middle = ascent * 0.36;
-                for t in ticks {
-                    let y = y1 as f32 - 1.0 - t.fraction.clamp(0.0, 1.0) as f32 * (y1 - y0 - 1) as f32;
-                    let y = y.round() as u32;
+                for (t, &(y, labelled)) in ticks.iter().zip(&layout.ticks) {
                     let rgba = [BORDER[0], BORDER[1], BORDER[2], 255];
                     fill(&mut image, [x1 + 1, y, x1 + 1 + tick, y + 1], rgba);
-                    let x = (x1 + 1 + tick + gap) as f32;
-                    draw_text(&mut image, &scaled, &t.label, (x, y as f32 + middle));
+                    if labelled {
+                        let x = (x1 + 1 + tick + gap) as f32;
+                        draw_text(&mut image, &scaled, &t.label, (x, y as f32 + middle));
+                    }
                 }
             }
             (Entries::Codes(codes), _) => {
@@ -151,6 +161,32 @@ impl Legend {
     }
 }
 
+/// The rows of ticks at `fractions` along `bar` (high end at the top), each with
+/// whether it is labelled: not when its label would come within `line` pixels of
+/// one placed before, the first and last (the range's ends) placed first.
+fn tick_rows(fractions: impl Iterator<Item = f64>, bar: [u32; 4], line: f32) -> Vec<(u32, bool)> {
+    let [_, y0, _, y1] = bar;
+    let rows: Vec<u32> = fractions
+        .map(|f| {
+            let y = f64::from(y1 - 1) - f.clamp(0.0, 1.0) * f64::from(y1 - y0 - 1);
+            y.round() as u32
+        })
+        .collect();
+    let n = rows.len();
+    let order = [0, n.saturating_sub(1)]
+        .into_iter()
+        .chain(1..n.saturating_sub(1));
+    let mut placed: Vec<u32> = Vec::new();
+    let mut labelled = vec![false; n];
+    for i in order.filter(|&i| i < n) {
+        if placed.iter().all(|&p| p.abs_diff(rows[i]) as f32 >= line) {
+            placed.push(rows[i]);
+            labelled[i] = true;
+        }
+    }
+    rows.into_iter().zip(labelled).collect()
+}
+
 /// A code as listed: the code, and its name where it has one.
 fn code_label(code: &super::Code) -> String {
     match &code.name {
@@ -170,7 +206,11 @@ fn draw_bar(image: &mut RgbaImage, [x0, y0, x1, y1]: [u32; 4], table: &[u8]) {
     for y in y0..y1 {
         let t = 1.0 - f64::from(y - y0) / f64::from(rows - 1);
         let i = 4 * ((t * 255.0).round() as usize).min(255);
-        fill(image, [x0, y, x1, y + 1], [table[i], table[i + 1], table[i + 2], 255]);
+        fill(
+            image,
+            [x0, y, x1, y + 1],
+            [table[i], table[i + 1], table[i + 2], 255],
+        );
     }
     let border = [BORDER[0], BORDER[1], BORDER[2], 255];
     frame_rect(image, [x0 - 1, y0 - 1, x1 + 1, y1 + 1], border);
@@ -246,9 +286,9 @@ fn over(dst: &mut Rgba<u8>, src: [u8; 4]) {
     if out <= 0.0 {
         return;
     }
-    for c in 0..3 {
-        let v = (f32::from(src[c]) * sa + f32::from(dst.0[c]) * da * (1.0 - sa)) / out;
-        dst.0[c] = v.round() as u8;
+    for (d, s) in dst.0.iter_mut().zip(src).take(3) {
+        let v = (f32::from(s) * sa + f32::from(*d) * da * (1.0 - sa)) / out;
+        *d = v.round() as u8;
     }
     dst.0[3] = (out * 255.0).round() as u8;
 }

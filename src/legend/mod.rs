@@ -197,7 +197,11 @@ pub fn log_ticks(lo: f64, hi: f64) -> Vec<(f64, String)> {
     let (a, b) = (lo.log10(), hi.log10());
     let decades = b - a;
     let stride = if decades > 8.0 { 2 } else { 1 };
-    let multiples: &[f64] = if decades < 2.0 { &[1.0, 2.0, 5.0] } else { &[1.0] };
+    let multiples: &[f64] = if decades < 2.0 {
+        &[1.0, 2.0, 5.0]
+    } else {
+        &[1.0]
+    };
     let near_end = |v: f64| (v.log10() - a).abs() < 0.1 || (b - v.log10()).abs() < 0.1;
     let mut ticks = vec![(lo, format_value(lo))];
     for p in (a.floor() as i32..=b.ceil() as i32).filter(|p| p % stride == 0) {

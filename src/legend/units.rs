@@ -44,9 +44,7 @@ pub fn unit(property: &str, system: UnitSystem) -> Option<&'static str> {
         "DEPTH" | "TOPS" | "DX" | "DY" | "DZ" | "DZNET" => by_system("m", "ft", "cm"),
         "TEMP" => by_system("°C", "°F", "°C"),
         "PORV" => by_system("rm³", "rb", "rcc"),
-        "TRANX" | "TRANY" | "TRANZ" => {
-            by_system("cP·rm³/day/bar", "cP·rb/day/psi", "cP·rcc/h/atm")
-        }
+        "TRANX" | "TRANY" | "TRANZ" => by_system("cP·rm³/day/bar", "cP·rb/day/psi", "cP·rcc/h/atm"),
         "RS" => by_system("sm³/sm³", "Mscf/stb", "scc/scc"),
         "RV" => by_system("sm³/sm³", "stb/Mscf", "scc/scc"),
         _ => None,

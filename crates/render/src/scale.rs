@@ -92,7 +92,10 @@ impl Scale {
         match self {
             Scale::Linear => [lo, span(lo, hi), 1.0, 0.0],
             Scale::Log => {
-                let (a, b) = (lo.max(f32::MIN_POSITIVE).ln(), hi.max(f32::MIN_POSITIVE).ln());
+                let (a, b) = (
+                    lo.max(f32::MIN_POSITIVE).ln(),
+                    hi.max(f32::MIN_POSITIVE).ln(),
+                );
                 [a, span(a, b), 1.0, 1.0]
             }
             Scale::Categorical => [CATEGORICAL.len() as f32, 0.0, 1.0, 2.0],
