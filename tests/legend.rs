@@ -10,6 +10,7 @@ use strata::grid::{CornerPointGrid, Dims};
 use strata::legend::{Entries, Layout, Legend};
 use strata::render::image::RgbaImage;
 use strata::render::{Colormap, Scale, WireMode, categorical_colour};
+use strata::scene::Lod;
 use strata::{Scene, SceneRenderer};
 
 fn sample() -> PathBuf {
@@ -198,9 +199,24 @@ fn a_log_scale_colours_a_cell_by_its_decade() {
     let model = striped(dir.path(), "PERMX", &[1.0, 10.0, 1000.0]);
     let table = Colormap::Viridis.table();
     let entry = |i: usize| [table[4 * i], table[4 * i + 1], table[4 * i + 2]];
-    for (scale, expect) in [(Scale::Log, 85), (Scale::Linear, 2)] {
-        let image = draw(&from_above(model.clone(), "PERMX", scale));
-        // The middle column's centre is the picture's: 10 mD, a third of the way up
+    let decimated = Lod::Decimated {
+        percent: 50.0,
+        cover: false,
+        stitch: false,
+    };
+    let cases = [
+        (Scale::Log, Lod::Full, 85),
+        (Scale::Log, decimated.clone(), 85),
+        (Scale::Linear, Lod::Full, 2),
+        (Scale::Linear, decimated, 2),
+    ];
+    for (scale, lod, expect) in cases {
+        let scene = Scene {
+            lod: lod.clone(),
+            ..from_above(model.clone(), "PERMX", scale)
+        };
+        let image = draw(&scene);
+        // Whole or decimated, the middle column's centre is the picture's: 10 mD, a third of the way up
         // three decades on a log scale, near the bottom on a linear one.
         let got = rgb(&image, 300, 200);
         let best = (0..256)
@@ -208,7 +224,7 @@ fn a_log_scale_colours_a_cell_by_its_decade() {
             .unwrap_or(0);
         assert!(
             best.abs_diff(expect) <= 6,
-            "{scale:?}: entry {best}, not {expect}"
+            "{scale:?} {lod:?}: entry {best}, not {expect}"
         );
     }
     // A range reaching zero is refused for a log scale, naming the property.
