@@ -174,3 +174,47 @@ impl Overlay {
         pass.draw(0..4, 0..1);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+    use image::Rgba;
+
+    use crate::renderer::test_renderer;
+    use crate::{Camera, Style, View};
+
+    #[test]
+    fn the_overlay_is_blended_at_the_right_edge_vertically_centred() {
+        let mut r = test_renderer();
+        // Opaque red on the left column, half-transparent black on the right.
+        let mut image = image::RgbaImage::new(2, 4);
+        for y in 0..4 {
+            image.put_pixel(0, y, Rgba([255, 0, 0, 255]));
+            image.put_pixel(1, y, Rgba([0, 0, 0, 128]));
+        }
+        let view = View {
+            camera: Camera::fit_points([Vec3::ZERO, Vec3::ONE], 1.0, 1.0, (0.0, 60.0), 1.0),
+            width: 9,
+            height: 10,
+            bounds: (Vec3::ZERO, Vec3::ONE),
+        };
+        r.set_overlay(Some(&image));
+        let frame = r.render(&[], &view, &Style::default()).expect("a frame");
+        r.set_overlay(None);
+        let plain = r.render(&[], &view, &Style::default()).expect("a frame");
+        assert_eq!(super::overlay_origin((9, 10), (2, 4)), [7, 3]);
+        for (x, y, p) in frame.enumerate_pixels() {
+            let expect = match (x, y) {
+                (7, 3..7) => [255, 0, 0, 255],
+                (8, 3..7) => [127, 127, 127, 255],
+                _ => [255; 4],
+            };
+            let near = p.0.iter().zip(expect).all(|(a, b)| a.abs_diff(b) <= 1);
+            assert!(near, "pixel {x},{y}: {:?}, not {expect:?}", p.0);
+        }
+        assert!(
+            plain.pixels().all(|p| p.0 == [255; 4]),
+            "the overlay stayed"
+        );
+    }
+}
