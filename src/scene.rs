@@ -447,6 +447,16 @@ impl Scene {
             ));
         }
         self.colour.check()?;
+        if self.colour.scale == Scale::Categorical
+            && self.lod != Lod::Full
+            && !matches!(self.wire.technique, WireMode::Global | WireMode::None)
+        {
+            return bad(format!(
+                "colour: a categorical scale paints each cell its code's colour, and decimated \
+                 surfaces drawn with --wire {} interpolate between nodes: use --wire global or none",
+                self.wire.technique.name()
+            ));
+        }
         let c = &self.camera;
         if ![c.azimuth, c.elevation].iter().all(|v| v.is_finite()) {
             return bad("camera: azimuth and elevation must be finite".into());
@@ -724,6 +734,12 @@ mod tests {
                 "not interpolated between nodes",
             ),
         ];
+        let decimated = r#"{"model": {"path": "m.grdecl"}, "lod": {"kind": "decimated", "percent": 10},
+            "wire": {"technique": "tex"}, "colour": {"scale": "categorical"}}"#;
+        let message = Scene::from_json(decimated)
+            .expect_err("refused")
+            .to_string();
+        assert!(message.contains("--wire tex interpolate"), "{message}");
         for (colour, expect) in errors {
             let message = Scene::from_json(&with(colour))
                 .expect_err(colour)
