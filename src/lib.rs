@@ -34,6 +34,7 @@ pub mod bench;
 pub mod cell;
 pub mod engine;
 mod error;
+pub mod legend;
 pub mod memory;
 pub mod metrics;
 pub mod progress;

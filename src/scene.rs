@@ -13,7 +13,7 @@
 use std::path::PathBuf;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
-use strata_render::{Colormap, HiddenLines, RangeAdjust, WireMode, parse_color};
+use strata_render::{Colormap, HiddenLines, RangeAdjust, Scale, WireMode, parse_color};
 
 use crate::{Error, Result};
 
@@ -51,6 +51,9 @@ pub struct Scene {
     pub camera: CameraSpec,
     /// Picture width and height in pixels.
     pub size: [u32; 2],
+    /// The colour legend at the right edge (when the cells are coloured by a
+    /// property).
+    pub legend: bool,
     /// Active cells a part may hold: a larger scene is drawn a part at a time, in the
     /// memory of one part (see `strata render --help`).
     pub part_cells: u64,
@@ -135,6 +138,11 @@ pub struct Colouring {
     /// Values at the two ends of the colour map; the property's range over the drawn
     /// cells when `None`.
     pub range: Option<[f32; 2]>,
+    /// How values map onto the colour map: linear, log (a positive range is needed;
+    /// values at or below zero draw as undefined) or categorical (integer codes, a
+    /// palette colour each).
+    #[serde(with = "named")]
+    pub scale: Scale,
 }
 
 impl Default for Colouring {
@@ -146,6 +154,27 @@ impl Default for Colouring {
             smooth: false,
             colormap: Colormap::Viridis,
             range: None,
+            scale: Scale::Linear,
+        }
+    }
+}
+
+impl Colouring {
+    /// Refuses a scale its other fields contradict: a log scale over a typed range
+    /// not all positive, a categorical one interpolated between nodes.
+    fn check(&self) -> Result<()> {
+        match (self.scale, self.range) {
+            (Scale::Log, Some([lo, hi])) if lo <= 0.0 => Err(Error::scene(format!(
+                "colour: a log scale of {} needs a positive range, not [{lo}, {hi}]",
+                self.property
+                    .as_deref()
+                    .unwrap_or("the default property (PORO)")
+            ))),
+            (Scale::Categorical, _) if self.smooth => Err(Error::scene(
+                "colour: a categorical scale paints each cell its code's colour; codes are \
+                 not interpolated between nodes (smooth)",
+            )),
+            _ => Ok(()),
         }
     }
 }
@@ -306,6 +335,7 @@ impl Default for Scene {
             grid_lines: None,
             camera: CameraSpec::default(),
             size: [1200, 900],
+            legend: true,
             part_cells: 2_000_000,
         }
     }
@@ -418,6 +448,17 @@ impl Scene {
         {
             return bad(format!(
                 "colour: range [{lo}, {hi}] must be finite, low < high"
+            ));
+        }
+        self.colour.check()?;
+        if self.colour.scale == Scale::Categorical
+            && self.lod != Lod::Full
+            && !matches!(self.wire.technique, WireMode::Global | WireMode::None)
+        {
+            return bad(format!(
+                "colour: a categorical scale paints each cell its code's colour, and decimated \
+                 surfaces drawn with --wire {} interpolate between nodes: use --wire global or none",
+                self.wire.technique.name()
             ));
         }
         let c = &self.camera;
@@ -544,6 +585,16 @@ impl Named for Colormap {
     }
 }
 
+impl Named for Scale {
+    const KIND: &'static str = "colour scale";
+    fn all() -> Vec<(&'static str, Self)> {
+        Scale::ALL.to_vec()
+    }
+    fn name(self) -> &'static str {
+        Scale::name(self)
+    }
+}
+
 impl Named for RangeAdjust {
     const KIND: &'static str = "range adjust";
     fn all() -> Vec<(&'static str, Self)> {
@@ -633,6 +684,7 @@ mod tests {
                 smooth: true,
                 colormap: Colormap::Turbo,
                 range: Some([0.05, 0.3]),
+                scale: Scale::Log,
             },
             wire: WireStyle {
                 technique: WireMode::TexGs,
@@ -662,7 +714,42 @@ mod tests {
                 target: Some([456_500.5, 6_780_600.25, 1650.0]),
             },
             size: [640, 480],
+            legend: false,
             part_cells: 12_345,
+        }
+    }
+
+    #[test]
+    fn scales_and_the_legend_default_and_are_checked() {
+        let with =
+            |colour: &str| format!(r#"{{"model": {{"path": "m.grdecl"}}, "colour": {colour}}}"#);
+        // A scene written before scales and legends reads as linear, with a legend.
+        let old = Scene::from_json(&with(r#"{"colormap": "turbo"}"#)).expect("reads");
+        assert_eq!((old.colour.scale, old.legend), (Scale::Linear, true));
+        let scene = Scene::from_json(&with(r#"{"scale": "categorical"}"#)).expect("reads");
+        assert_eq!(scene.colour.scale, Scale::Categorical);
+        let errors = [
+            (r#"{"scale": "cubic"}"#, "unknown colour scale \"cubic\""),
+            (
+                r#"{"scale": "log", "property": "PERMX", "range": [0, 10]}"#,
+                "a log scale of PERMX needs a positive range, not [0, 10]",
+            ),
+            (
+                r#"{"scale": "categorical", "smooth": true}"#,
+                "not interpolated between nodes",
+            ),
+        ];
+        let decimated = r#"{"model": {"path": "m.grdecl"}, "lod": {"kind": "decimated", "percent": 10},
+            "wire": {"technique": "tex"}, "colour": {"scale": "categorical"}}"#;
+        let message = Scene::from_json(decimated)
+            .expect_err("refused")
+            .to_string();
+        assert!(message.contains("--wire tex interpolate"), "{message}");
+        for (colour, expect) in errors {
+            let message = Scene::from_json(&with(colour))
+                .expect_err(colour)
+                .to_string();
+            assert!(message.contains(expect), "{colour}: {message}");
         }
     }
 

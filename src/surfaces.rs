@@ -562,11 +562,20 @@ pub fn colour_range_of(
     grid: &CornerPointGrid,
     options: &SceneOptions,
 ) -> Result<Option<(f32, f32)>> {
+    Ok(colour_values_of(grid, options)?.and_then(colour_range))
+}
+
+/// The values of the property colouring the scene over all its cells (its active
+/// cells in the drawn layers); `None` without a property.
+pub fn colour_values_of<'g>(
+    grid: &'g CornerPointGrid,
+    options: &SceneOptions,
+) -> Result<Option<impl Iterator<Item = f32> + 'g>> {
     let layers = drawn_layers(grid, options)?;
     Ok(options
         .property
         .as_deref()
-        .and_then(|name| colour_range(grid.active_values(name, layers)?)))
+        .and_then(|name| grid.active_values(name, layers)))
 }
 
 /// The cell faces of `mesh` that `camera` may show in a picture of `aspect` (width /

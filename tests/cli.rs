@@ -293,6 +293,10 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
         let picture = strata::render::image::open(&png).expect("a PNG").to_rgba8();
         picture.pixels().filter(|p| p.0 != [255; 4]).count()
     };
+    // A picture without the legend, which would count among those pixels.
+    let draw = |args: &[&str]| {
+        succeed(&[args, &["--size", "200x150", "--no-legend", "-o", &png]].concat())
+    };
     let note = "the background alone, no part of the model covers a pixel";
     // The cell to mend is named (1-based), with its corner and pillar.
     let named = format!(
@@ -311,7 +315,7 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
         "{listed}"
     );
 
-    let said = succeed(&["render", &sound, "--size", "200x150", "-o", &png]);
+    let said = draw(&["render", &sound]);
     assert!(
         !said.contains(note) && !said.contains("far outside"),
         "{said}"
@@ -319,9 +323,7 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
     let whole = covered();
     assert!(whole > 200 * 150 / 10, "{whole} pixels of the sound model");
     for options in [&[][..], &["--part-cells", "100"]] {
-        let mut args = vec!["render", &stray, "--size", "200x150", "-o", &png];
-        args.extend_from_slice(options);
-        let said = succeed(&args);
+        let said = draw(&[&["render", &stray][..], options].concat());
         assert!(
             said.contains(&named) && !said.contains(note),
             "{options:?}: {said}"
@@ -335,9 +337,7 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
     // Decimated, the budget is split by what the views that frame the rest show, as
     // without the stray corner (with its faces counted, every surface was 0 % seen).
     let decimated = |model: &str| {
-        let said = succeed(&[
-            "render", model, "--lod", "10", "--size", "200x150", "-o", &png,
-        ]);
+        let said = draw(&["render", model, "--lod", "10"]);
         let shares = said.find("shares").map(|at| said[at..].lines().next());
         (shares.flatten().map(str::to_string), covered())
     };
@@ -364,9 +364,7 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
     assert!(ok && !listed.contains(framed), "{listed}");
     for wire in ["global", "dist"] {
         let view = |lod: &str| {
-            let said = succeed(&[
-                "lod", "view", lod, "--wire", wire, "--size", "200x150", "-o", &png,
-            ]);
+            let said = draw(&["lod", "view", lod, "--wire", wire]);
             (said, covered())
         };
         let (said, whole) = view(&sound_lod);
@@ -383,17 +381,7 @@ fn a_stray_corner_is_named_and_render_frames_the_rest_of_the_model() {
         );
     }
     // Seen from so far that the model covers no pixel, the picture says why.
-    let said = succeed(&[
-        "lod",
-        "view",
-        &lod,
-        "--view",
-        "30,35,1e6",
-        "--size",
-        "200x150",
-        "-o",
-        &png,
-    ]);
+    let said = draw(&["lod", "view", &lod, "--view", "30,35,1e6"]);
     assert!(said.contains(note) && covered() == 0, "{said}");
     assert!(!said.contains("hidden behind"), "{said}");
 }

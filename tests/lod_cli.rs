@@ -669,9 +669,15 @@ fn the_hierarchy_view_takes_the_render_style_and_a_layer_range() {
     let lod = dir.path().join("sample.lod");
     let lod_s = lod.to_str().expect("a UTF-8 path");
     build_sample(lod_s, &[]);
+    // Without the legend, whose panel would count among the pixels measured.
     let view = |name: &str, options: &[&str]| {
         let png = dir.path().join(format!("{name}.png"));
-        view_lod(lod_s, &png, "400x300", options)
+        view_lod(
+            lod_s,
+            &png,
+            "400x300",
+            &[options, &["--no-legend"]].concat(),
+        )
     };
     let count = |picture: &image::RgbaImage, pick: &dyn Fn([u8; 4]) -> bool| {
         picture.pixels().filter(|p| pick(p.0)).count()
@@ -763,15 +769,17 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
     // Full resolution, as render draws: at this size the view would choose coarser
     // levels over the whole of some layers.
     let full = ["--pixels", "0"];
+    // Without legends: a hierarchy's names its property "stored property", so the
+    // two pictures' legends differ.
     for iso in [&[][..], &["--iso"][..]] {
-        let mut options = vec!["--sides"];
+        let mut options = vec!["--sides", "--no-legend"];
         options.extend_from_slice(iso);
         options.extend_from_slice(&full);
         let (printed, viewed) = view_lod(lod_s, &png("view"), "400x300", &options);
         assert!(printed.contains("(100.0 %)"), "{printed}");
         let rendered_options: Vec<&str> = match iso {
-            [] => vec!["--sides"],
-            _ => vec!["--sides", "--iso", "PORO"],
+            [] => vec!["--sides", "--no-legend"],
+            _ => vec!["--sides", "--iso", "PORO", "--no-legend"],
         };
         let rendered = render_sample(&png("render"), "400x300", &rendered_options);
         // "render.png: N triangles" against the view's "K nodes, L of L
@@ -794,7 +802,7 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
             "{side_triangles:?} of {all_sides:?} side triangles drawn"
         );
         let (model, ..) = measure(&picture("render"));
-        let plain_options = [iso, &full[..]].concat();
+        let plain_options = [iso, &full[..], &["--no-legend"]].concat();
         let (_, plain) = view_lod(lod_s, &png("plain"), "400x300", &plain_options);
         let (with, without) = (
             differ(&viewed, &picture("render")),
@@ -818,7 +826,7 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
         assert!(with <= allowed, "{with} pixels differ from render --sides");
     }
     // A layer range: those layers' sides only, as `render --layers` draws them.
-    let range = ["--sides", "--layers", "3..5"];
+    let range = ["--sides", "--layers", "3..5", "--no-legend"];
     let range_full = [&range[..], &full[..]].concat();
     let (printed, viewed) = view_lod(lod_s, &png("range"), "400x300", &range_full);
     render_sample(&png("render_range"), "400x300", &range);
@@ -1010,7 +1018,15 @@ fn a_close_up_centres_its_cell_and_the_hierarchy_draws_only_what_it_shows() {
     let sample = sample();
     let model = sample.to_str().expect("a UTF-8 path");
     let read = ["--props", deck, "--property", "MARK"];
-    let close = ["--view", "30,35,0.15", "--wire", "none", "--sides"];
+    // Without legends, which differ between a model and its hierarchy.
+    let close = [
+        "--view",
+        "30,35,0.15",
+        "--wire",
+        "none",
+        "--sides",
+        "--no-legend",
+    ];
     let centred = [&close[..], &["--centre", "28,18"]].concat();
     let png = |name: &str| dir.path().join(name);
     let picture = |p: &Path| image::open(p).expect("a PNG").to_rgba8();

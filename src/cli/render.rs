@@ -15,7 +15,7 @@ use super::parse::{IsoSpacing, parse_iso};
 use super::style::{FrameArgs, LayerArgs, StyleArgs};
 
 /// The options that describe a scene, which a scene file replaces.
-const SCENE_OPTIONS: [&str; 33] = [
+const SCENE_OPTIONS: [&str; 35] = [
     "model",
     "props",
     "grid_only",
@@ -39,6 +39,8 @@ const SCENE_OPTIONS: [&str; 33] = [
     "smooth",
     "step",
     "range",
+    "scale",
+    "no_legend",
     "zscale",
     "view",
     "centre",

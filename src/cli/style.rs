@@ -3,7 +3,7 @@
 
 use anyhow::{Result, anyhow};
 use clap::{Args, ValueEnum};
-use strata::render::{Colormap, HiddenLines, WireMode};
+use strata::render::{Colormap, HiddenLines, Scale, WireMode};
 
 use super::parse::{
     parse_cells, parse_column, parse_grid_lines, parse_hidden, parse_layers, parse_range,
@@ -103,6 +103,24 @@ pub struct StyleArgs {
     /// of the drawn cells' values).
     #[arg(long, value_name = "LO,HI", value_parser = parse_range)]
     range: Option<[f32; 2]>,
+    /// How values map onto the colour map: linear; log (ln of the values, for
+    /// properties that span decades such as permeability; the range must be
+    /// positive, and cells at or below zero inside a given --range draw grey as
+    /// undefined); categorical (integer codes such as FIPNUM or SATNUM, each a
+    /// colour of the Tableau 20 palette, never blended).
+    #[arg(long, default_value = "linear", value_parser = parse_scale)]
+    scale: Scale,
+    /// No colour legend (by default one is drawn at the right edge when the cells are
+    /// coloured by a property).
+    #[arg(long)]
+    no_legend: bool,
+}
+
+fn parse_scale(s: &str) -> Result<Scale, String> {
+    Scale::from_name(s).ok_or_else(|| {
+        let names: Vec<&str> = Scale::ALL.iter().map(|(n, _)| *n).collect();
+        format!("unknown colour scale {s:?}; one of {}", names.join(", "))
+    })
 }
 
 impl StyleArgs {
@@ -120,6 +138,8 @@ impl StyleArgs {
         scene.colour.colormap = Colormap::from_name(&self.colormap)
             .ok_or_else(|| anyhow!("unknown colour map {:?}", self.colormap))?;
         scene.colour.range = self.range;
+        scene.colour.scale = self.scale;
+        scene.legend = !self.no_legend;
         scene.grid_lines = self.grid_lines.map(|(spacing, x0, y0)| GridLineSpec {
             spacing,
             origin: [x0, y0],

@@ -184,6 +184,16 @@ impl Hierarchy {
         Ok(best.map(|(_, pick)| pick))
     }
 
+    /// The stored property's range over the drawn layers' cells.
+    pub fn scalar_range(&self) -> Option<(f32, f32)> {
+        self.scalar_range
+    }
+
+    /// The stored property's values on the drawn layers' cells.
+    pub fn values(&self) -> impl Iterator<Item = f32> + '_ {
+        drawn_values(&self.file, &self.drawn)
+    }
+
     /// The camera of `scene` and the nodes it needs at the scene's pixel error.
     pub fn plan(&self, scene: &Scene) -> Result<Plan> {
         let start = Instant::now();

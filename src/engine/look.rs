@@ -50,6 +50,7 @@ pub fn style(
         isolation: wire.isolation,
         hidden: wire.hidden,
         colormap: colour.colormap,
+        scale: colour.scale,
         scalar_range: match (colour.range, scalar_range) {
             (Some([lo, hi]), Some(_)) => Some((lo, hi)),
             (_, range) => range,

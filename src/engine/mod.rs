@@ -27,6 +27,7 @@
 
 mod decimated;
 mod hierarchy;
+mod legend;
 mod look;
 mod model;
 mod parts;
@@ -122,6 +123,8 @@ pub struct SceneRenderer {
     progress: Option<Box<ProgressFn>>,
     counters: Counters,
     last_view: Option<(View, [f64; 3])>,
+    /// The legend the renderer shows.
+    legend: legend::Shown,
 }
 
 impl SceneRenderer {
@@ -138,6 +141,7 @@ impl SceneRenderer {
             progress: None,
             counters: Counters::default(),
             last_view: None,
+            legend: legend::Shown::default(),
         })
     }
 
@@ -207,7 +211,7 @@ impl SceneRenderer {
     pub fn render(&mut self) -> Result<Frame> {
         let (image, mut report) = self.frame(Output::Pixels)?;
         let image = image.ok_or_else(|| Error::scene("no pixels read back"))?;
-        report.blank = background_only(&image, &self.scene);
+        report.blank = background_only(&image, &self.scene, self.legend.area(&image));
         Ok(Frame { image, report })
     }
 
@@ -251,6 +255,10 @@ impl SceneRenderer {
         let drawing = Instant::now();
         let renderer = opened(&mut self.renderer)?;
         let scene = &self.scene;
+        if let Some(content) = &self.content {
+            let built = (content, self.counters.contents_built);
+            (self.legend).update(scene, built, self.model.as_ref(), renderer)?;
+        }
         let progress = self.progress.as_deref();
         let (image, mut report) = match self.content.as_mut() {
             Some(Content::Whole(whole)) => {
@@ -320,14 +328,20 @@ impl SceneRenderer {
 }
 
 /// Whether `image` is `scene`'s background alone (black with lines in isolation,
-/// white otherwise).
-fn background_only(image: &RgbaImage, scene: &Scene) -> bool {
+/// white otherwise) outside the legend's `area` (`[x0, y0, x1, y1)`).
+fn background_only(image: &RgbaImage, scene: &Scene, area: Option<[i64; 4]>) -> bool {
     let clear = if scene.wire.isolation {
         [0, 0, 0, 255]
     } else {
         [255; 4]
     };
-    image.pixels().all(|p| p.0 == clear)
+    let legend = |x: u32, y: u32| {
+        let (x, y) = (i64::from(x), i64::from(y));
+        area.is_some_and(|[x0, y0, x1, y1]| x >= x0 && x < x1 && y >= y0 && y < y1)
+    };
+    image
+        .enumerate_pixels()
+        .all(|(x, y, p)| p.0 == clear || legend(x, y))
 }
 
 /// The renderer in `slot`, opened on the best adapter found when there is none yet.

@@ -104,6 +104,16 @@ impl Parts {
         })))
     }
 
+    /// What the cells are coloured by: see [`SceneOptions`].
+    pub fn options(&self) -> &SceneOptions {
+        &self.options
+    }
+
+    /// The property colouring the cells and its range over them.
+    pub fn colouring(&self) -> Option<(String, (f32, f32))> {
+        colouring(&self.options, self.range)
+    }
+
     /// Frames the scene for `scene`'s camera (one pass over the corners, held for the
     /// next frame of the same direction), then builds, draws and drops each part the
     /// picture may show, reporting to `progress`.

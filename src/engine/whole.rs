@@ -161,6 +161,16 @@ impl Whole {
         Some(Pick { cell, point })
     }
 
+    /// What the cells are coloured by: see [`SceneOptions`].
+    pub fn options(&self) -> &SceneOptions {
+        &self.options
+    }
+
+    /// The property colouring the cells and its range over them.
+    pub fn colouring(&self) -> Option<(String, (f32, f32))> {
+        colouring(&self.options, self.range)
+    }
+
     /// Frames the mesh as `scene`'s camera sees it and draws it.
     pub fn draw(
         &self,

@@ -358,7 +358,10 @@ fn a_large_model_opens_on_a_preview_while_its_hierarchy_is_built() {
         .strip_suffix(" triangles")
         .and_then(|n| n.parse().ok())
         .unwrap_or_else(|| panic!("the first frame drew {:?}", drawn[0]));
-    assert!(preview > 0 && preview <= 3456, "the preview drew {preview} triangles");
+    assert!(
+        preview > 0 && preview <= 3456,
+        "the preview drew {preview} triangles"
+    );
     let last = drawn.last().expect("frames drawn");
     assert!(
         last.contains("wireframe"),

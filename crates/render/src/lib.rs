@@ -35,7 +35,9 @@ mod error;
 mod gpu;
 mod gridlines;
 mod isoline;
+mod overlay;
 mod renderer;
+mod scale;
 mod style;
 mod timing;
 mod visibility;
@@ -50,8 +52,10 @@ pub use gridlines::GridLines;
 /// The image crate of the public API (frames are `image::RgbaImage`).
 pub use image;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
+pub use overlay::overlay_origin;
 pub use renderer::sampling::{SHARE_SIZE, SHARE_VIEWS, Sampling};
 pub use renderer::{Output, Renderer, View};
+pub use scale::{CATEGORICAL, Scale, categorical_colour};
 pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color};
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).

@@ -10,12 +10,13 @@ use image::RgbaImage;
 use strata_grid::SurfaceMesh;
 
 use crate::isoline::{IsolineOptions, IsolineTechnique, RangeAdjust};
+use crate::overlay::Overlay;
 use crate::timing::{FrameTime, FrameTimer};
 use crate::wire::{
     self, COLOR_FORMAT, CellDraw, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique,
     WireMode, WireTextureSpec,
 };
-use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Style};
+use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Scale, Style};
 
 /// What a drawn frame leaves behind.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,10 +72,6 @@ impl FrameUniforms {
         let light = (-forward + 0.4 * right + 0.6 * cam.up).normalize_or(Vec3::Z);
         // Attenuation spans the scene's depth as seen from the eye.
         let (a_near, a_far) = (near, far.max(near * 1.0001));
-        let (smin, sinv, by_scalar) = match style.scalar_range {
-            Some((lo, hi)) => (lo, 1.0 / (hi - lo).max(f32::MIN_POSITIVE), 1.0),
-            None => (0.0, 0.0, 0.0),
-        };
         FrameUniforms {
             // The shader applies the vertical exaggeration itself (`world` in common.wgsl,
             // which also feeds lighting and attenuation), so no model matrix here.
@@ -105,7 +102,7 @@ impl FrameUniforms {
                 style.attenuation.code(),
                 layers as f32,
             ],
-            scalar: [smin, sinv, by_scalar, 0.0],
+            scalar: style.scale.uniform(style.scalar_range),
             iso: style.isolines.map_or([0.0; 4], |i| i.uniform()),
             iso_color: style.isolines.map_or([0.0; 4], |i| i.color),
             grid: style.grid_lines.map_or([0.0; 4], |g| g.uniform()),
@@ -134,7 +131,7 @@ pub struct Renderer {
     colormap_sampler: wgpu::Sampler,
     wire_spec: WireTextureSpec,
     wire_view: wgpu::TextureView,
-    colormap: Colormap,
+    colormap: (Colormap, Scale),
     colormap_view: wgpu::TextureView,
     bind_group: wgpu::BindGroup,
     techniques: HashMap<WireMode, Box<dyn Technique>>,
@@ -142,6 +139,8 @@ pub struct Renderer {
     /// Without and with the mask, then both without the wire.
     cells: [Option<wire::CellTechnique>; 4],
     targets: Option<Targets>,
+    /// Blended over the end of every frame (the colour legend).
+    overlay: Option<Overlay>,
 }
 
 /// A renderer moves between threads (a viewer's render thread; a test binary's one
@@ -229,8 +228,8 @@ impl Renderer {
                     dimension: Some(wgpu::TextureViewDimension::D2Array),
                     ..Default::default()
                 });
-        let colormap = Colormap::default();
-        let colormap_view = upload_colormap(&gpu, colormap);
+        let colormap = (Colormap::default(), Scale::default());
+        let colormap_view = upload_colormap(&gpu, &colormap.1.table(colormap.0));
         let bind_group = make_bind_group(
             &gpu,
             &frame_layout,
@@ -255,7 +254,29 @@ impl Renderer {
             isolines: None,
             cells: [None, None, None, None],
             targets: None,
+            overlay: None,
         })
+    }
+
+    /// Blends `image` (RGBA8, straight alpha; `None`: nothing) over the end of every
+    /// frame from now on, one texel per pixel at the frame's right edge, vertically
+    /// centred: the colour legend. It is drawn into the frame's target, so it is in
+    /// what [`Renderer::render`] reads back and in the target a window shows.
+    pub fn set_overlay(&mut self, image: Option<&RgbaImage>) {
+        self.overlay = image.map(|image| Overlay::new(&self.gpu, image));
+    }
+
+    /// Records the overlay's pass over the frame, if there is one.
+    fn encode_overlay(&self, encoder: &mut wgpu::CommandEncoder) -> Result<()> {
+        let targets = self
+            .targets
+            .as_ref()
+            .ok_or_else(|| Error::Gpu("no render targets".into()))?;
+        if let Some(overlay) = &self.overlay {
+            let size = (targets.width, targets.height);
+            overlay.encode(&self.gpu, encoder, &targets.color_view, size);
+        }
+        Ok(())
     }
 
     /// Opens the best adapter (see [`Gpu::new`]) and a renderer on it.
@@ -453,9 +474,9 @@ impl Renderer {
             );
             rebind = true;
         }
-        if style.colormap != self.colormap {
-            self.colormap = style.colormap;
-            self.colormap_view = upload_colormap(&self.gpu, style.colormap);
+        if (style.colormap, style.scale) != self.colormap {
+            self.colormap = (style.colormap, style.scale);
+            self.colormap_view = upload_colormap(&self.gpu, &style.scale.table(style.colormap));
             rebind = true;
         }
         if rebind {
@@ -553,7 +574,8 @@ impl Renderer {
 
     /// Draws a frame and waits for it, without reading it back (for timing).
     pub fn draw(&mut self, items: &[&dyn Drawable], view: &View, style: &Style) -> Result<()> {
-        let encoder = self.encode_frame(items, view, style)?;
+        let mut encoder = self.encode_frame(items, view, style)?;
+        self.encode_overlay(&mut encoder)?;
         self.gpu.queue.submit([encoder.finish()]);
         self.gpu.wait()
     }
@@ -566,7 +588,8 @@ impl Renderer {
         style: &Style,
         timer: &FrameTimer,
     ) -> Result<FrameTime> {
-        let encoder = self.encode_frame(items, view, style)?;
+        let mut encoder = self.encode_frame(items, view, style)?;
+        self.encode_overlay(&mut encoder)?;
         timer.submit(&self.gpu, encoder)
     }
 
@@ -596,7 +619,10 @@ impl Renderer {
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let submitted = self
             .encode_frame(items, view, style)
-            .and_then(|encoder| self.finish_frame(encoder, output));
+            .and_then(|mut encoder| {
+                self.encode_overlay(&mut encoder)?;
+                self.finish_frame(encoder, output)
+            });
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(e.to_string()));
         }
@@ -691,7 +717,8 @@ impl Renderer {
             drawn?;
             self.gpu.wait()?;
         }
-        let encoder = self.gpu.device.create_command_encoder(&Default::default());
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        self.encode_overlay(&mut encoder)?;
         self.finish_frame(encoder, output)?;
         match output {
             Output::Pixels => Ok(Some(self.read_pixels()?)),
@@ -825,7 +852,8 @@ fn make_bind_group(
     })
 }
 
-fn upload_colormap(gpu: &Gpu, colormap: Colormap) -> wgpu::TextureView {
+/// The colour-map texture of 256 RGBA8 texels, `table`.
+fn upload_colormap(gpu: &Gpu, table: &[u8]) -> wgpu::TextureView {
     let size = wgpu::Extent3d {
         width: 256,
         height: 1,
@@ -843,7 +871,7 @@ fn upload_colormap(gpu: &Gpu, colormap: Colormap) -> wgpu::TextureView {
     });
     gpu.queue.write_texture(
         texture.as_image_copy(),
-        &colormap.table(),
+        table,
         wgpu::TexelCopyBufferLayout {
             offset: 0,
             bytes_per_row: Some(1024),

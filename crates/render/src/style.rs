@@ -1,7 +1,7 @@
 //! How a frame looks: line style, colours, colour map.
 
 use crate::wire::Attenuation;
-use crate::{GridLines, Isolines};
+use crate::{GridLines, Isolines, Scale};
 
 /// How line coverage is computed in the fragment shader (DESIGN.md section 3): from
 /// the mip-mapped wireframe texture, or analytically from the coordinate's gradient.
@@ -148,6 +148,8 @@ pub struct Style {
     pub colormap: Colormap,
     /// Scalar range mapped onto the colour map; `None` draws the solid colour.
     pub scalar_range: Option<(f32, f32)>,
+    /// How values within the range map onto the colour map.
+    pub scale: Scale,
     /// Colour behind the surfaces, linear RGBA.
     pub background: [f32; 4],
     /// Largest fraction of a coordinate unit a half line may cover (saturation cap).
@@ -173,6 +175,7 @@ impl Default for Style {
             solid_color: [0.78, 0.74, 0.66, 1.0],
             colormap: Colormap::Viridis,
             scalar_range: None,
+            scale: Scale::Linear,
             background: [1.0, 1.0, 1.0, 1.0],
             cap: 1.0 / 3.0,
             texture_width: 4096,

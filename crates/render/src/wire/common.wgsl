@@ -18,7 +18,9 @@ struct Frame {
     // x: near distance; y: 1 / (far - near); z: 0 none, 1 intensity, 2 thickness;
     // w: number of attenuation layers in the wireframe texture.
     atten: vec4<f32>,
-    // x: scalar at the colour map's start; y: 1 / range; z: 1 colour by scalar.
+    // x: scalar at the colour map's start; y: 1 / range; z: 1 colour by scalar;
+    // w: the scale (scale.rs), 0 linear, 1 log (x, y of ln values), 2 categorical
+    // (x: the palette's length).
     scalar: vec4<f32>,
     // Isolines (isoline.rs): x: 2 / spacing; y: offset (a line's value); z: every
     // z-th line is major (0: none); w: 1 drawn, 0 not.
@@ -168,7 +170,20 @@ fn base_color(scalar: f32) -> vec4<f32> {
         if scalar < UNDEFINED_SCALAR {
             return vec4<f32>(0.55, 0.55, 0.55, 1.0);
         }
-        let u = clamp((scalar - frame.scalar.x) * frame.scalar.y, 0.0, 1.0);
+        if frame.scalar.w > 1.5 {
+            // Categorical: the code's texel, never a blend of two.
+            let n = i32(frame.scalar.x);
+            let code = i32(round(scalar));
+            return textureLoad(colormap, vec2<i32>(((code % n) + n) % n, 0), 0);
+        }
+        var v = scalar;
+        if frame.scalar.w > 0.5 {
+            if scalar <= 0.0 {
+                return vec4<f32>(0.55, 0.55, 0.55, 1.0);
+            }
+            v = log(scalar);
+        }
+        let u = clamp((v - frame.scalar.x) * frame.scalar.y, 0.0, 1.0);
         return textureSampleLevel(colormap, colormap_sampler, vec2<f32>(u, 0.5), 0.0);
     }
     return frame.solid_color;
