@@ -31,6 +31,7 @@ pub use strata_render as render;
 
 #[cfg(feature = "bench")]
 pub mod bench;
+pub mod cell;
 pub mod engine;
 mod error;
 pub mod memory;

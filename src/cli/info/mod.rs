@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 use serde::Serialize;
-use strata::grid::ndarray::Array3;
+use strata::cell::{CORNER_ORDER, CellInfo};
 use strata::grid::{BoundingBox, Content, CornerPointGrid, Dims, MapAxes, Units};
 
 use crate::cli::ReadArgs;
@@ -62,22 +62,6 @@ struct StepInfo {
     date: Option<String>,
     arrays: Vec<String>,
 }
-
-#[derive(Serialize)]
-struct CellInfo {
-    file: String,
-    /// 1-based I, J, K.
-    cell: [usize; 3],
-    active: bool,
-    /// The order of `corners`.
-    corner_order: &'static str,
-    /// Map coordinates (x, y, depth) of the 8 corners.
-    corners: [[f64; 3]; 8],
-    /// Static properties, then the arrays of the last report step; null where undefined.
-    values: Vec<(String, Option<f32>)>,
-}
-
-const CORNER_ORDER: &str = "Eclipse order: top face (I,J) (I+1,J) (I,J+1) (I+1,J+1), then the bottom face in the same order";
 
 pub fn run(args: &InfoArgs) -> Result<()> {
     if let Some(path) = &args.model
@@ -187,36 +171,8 @@ fn model_info(
 }
 
 fn cell_info(grid: &CornerPointGrid, file: String, cell: [usize; 3], json: bool) -> Result<()> {
-    let Dims { nx, ny, nz } = grid.dims();
     let [ci, cj, ck] = cell;
-    if ci > nx || cj > ny || ck > nz {
-        bail!("cell {ci},{cj},{ck} is outside the grid of {nx} x {ny} x {nz} cells");
-    }
-    let (i, j, k) = (ci - 1, cj - 1, ck - 1);
-    let value = |a: &Array3<f32>| {
-        let v = a[[k, j, i]];
-        (!v.is_nan()).then_some(v)
-    };
-    let mut values: Vec<(String, Option<f32>)> = grid
-        .properties
-        .iter()
-        .map(|(n, a)| (n.clone(), value(a)))
-        .collect();
-    if let Some(step) = grid.report_steps.last() {
-        values.extend(
-            step.arrays
-                .iter()
-                .map(|(n, a)| (format!("{n}@{}", step.number), value(a))),
-        );
-    }
-    let info = CellInfo {
-        file,
-        cell,
-        active: grid.is_active(i, j, k),
-        corner_order: CORNER_ORDER,
-        corners: grid.cell_corners(i, j, k),
-        values,
-    };
+    let info = CellInfo::of(grid, file, cell)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&info)?);
         return Ok(());
