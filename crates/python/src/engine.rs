@@ -113,10 +113,13 @@ impl Engine {
             if let Some(grid) = grid {
                 scene.model = Some(grid.source.clone());
             }
-            let mut held = self
-                .held
-                .lock()
-                .map_err(|_| strata::Error::scene("the engine failed in another thread"))?;
+            // A panic while drawing (caught by `run`) leaves the lock poisoned and the
+            // engine in an unknown state: the next picture starts a fresh one.
+            let mut held = self.held.lock().unwrap_or_else(|poisoned| {
+                let mut held = poisoned.into_inner();
+                *held = None;
+                held
+            });
             let given = grid.map(|g| g.id);
             // From a grid back to files: a fresh engine, since the grid's source may
             // name the very file asked for now, and the held grid may differ from it.
