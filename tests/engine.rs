@@ -477,3 +477,47 @@ fn a_pick_names_the_cell_under_the_pixel_at_every_level_of_detail() {
         assert_eq!(engine.pick(0.0, 0.0).expect("a pick"), None, "{name}");
     }
 }
+
+#[test]
+fn a_model_in_memory_is_drawn_as_the_file_is_and_held_across_cameras() {
+    use strata::engine::Model;
+    use strata::scene::ModelSource;
+    let scene = small(Scene {
+        sides: true,
+        ..Scene::of_model(sample())
+    });
+    let from_file = SceneRenderer::new(scene.clone())
+        .and_then(|mut e| e.render())
+        .expect("a frame of the file");
+    let mut grid = strata::grid::open(&sample()).expect("the sample");
+    let source = ModelSource::new("<in memory>");
+    let (model, _) = Model::from_grid(source.clone(), grid.clone());
+    let mut engine = SceneRenderer::new(scene.clone()).expect("a scene");
+    engine.set_model(model, Vec::new());
+    assert_eq!(engine.scene().model.as_ref(), Some(&source));
+    let first = engine.render().expect("a frame of the grid");
+    assert!(
+        first.image == from_file.image,
+        "the grid drew another picture"
+    );
+    // A new camera on the same source draws from what is held.
+    let mut turned = engine.scene().clone();
+    turned.camera.azimuth += 90.0;
+    engine.set_scene(turned).expect("a new camera");
+    let second = engine.render().expect("a turned frame");
+    assert!(second.image != first.image, "the camera did not turn");
+    assert_eq!(engine.counters(), counted(0, 1, 2));
+    // A changed grid handed over again is drawn anew: the model is what was given.
+    grid.properties
+        .get_mut("PORO")
+        .expect("PORO")
+        .mapv_inplace(|v| 0.3 - v);
+    let (model, _) = Model::from_grid(source, grid);
+    engine.set_model(model, Vec::new());
+    let third = engine.render().expect("a frame of the changed grid");
+    assert!(
+        third.image != second.image,
+        "the changed grid drew the same picture"
+    );
+    assert_eq!(engine.counters(), counted(0, 2, 3));
+}

@@ -10,6 +10,8 @@
 //! sides, property, level of detail, technique or isoline field build the content
 //! again; anything else (camera, size, line style, colours, isoline spacing, grid
 //! lines) is drawn by the next frame from what is held. [`Counters`] says how often each happened.
+//! A model already in memory is handed over with [`SceneRenderer::set_model`] and
+//! then held as a read one is.
 //!
 //! The content takes one of three forms:
 //! - **whole**: one mesh of every drawn surface, full or decimated (`render`,
@@ -204,6 +206,18 @@ impl SceneRenderer {
         }
         self.scene = scene;
         Ok(())
+    }
+
+    /// Draws `model`, already in memory, in place of reading the scene's model: the
+    /// scene's `model` becomes `model.source` and what was built is dropped (with the
+    /// notes of [`Model::from_grid`] given with the next frame). The rules of
+    /// [`Self::set_scene`] hold after it: a scene naming the same source keeps the
+    /// model, and a new camera rebuilds nothing; a scene naming another reads that.
+    pub fn set_model(&mut self, model: Model, notes: Vec<Note>) {
+        self.scene.model = Some(model.source.clone());
+        self.model = Some(model);
+        self.content = None;
+        self.pending.extend(notes);
     }
 
     /// Reads the model and builds the content where they are not held, then draws

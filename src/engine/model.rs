@@ -41,6 +41,13 @@ impl Model {
                 )
             })?;
         }
+        Ok(Self::from_grid(source.clone(), grid))
+    }
+
+    /// A model of a grid already in memory (read and changed by the caller, or made
+    /// from another library's arrays, as the Python package's `Grid` is), named by
+    /// `source`; its warnings and stray corners come back as [`Model::open`] gives them.
+    pub fn from_grid(source: ModelSource, grid: CornerPointGrid) -> (Self, Vec<Note>) {
         let stray = grid.stray_corners();
         let notes = grid
             .warnings
@@ -50,12 +57,12 @@ impl Model {
             .map(Note::Warning)
             .collect();
         let model = Model {
-            source: source.clone(),
+            source,
             grid,
             stray,
             step: None,
         };
-        Ok((model, notes))
+        (model, notes)
     }
 
     /// Makes the arrays of report step `number` (SEQNUM) the values of their

@@ -171,8 +171,8 @@ fn model_info(
 }
 
 fn cell_info(grid: &CornerPointGrid, file: String, cell: [usize; 3], json: bool) -> Result<()> {
-    let info = CellInfo::of(grid, file, cell)?;
     let [ci, cj, ck] = cell;
+    let info = CellInfo::of(grid, file, cell)?;
     if json {
         println!("{}", serde_json::to_string_pretty(&info)?);
         return Ok(());

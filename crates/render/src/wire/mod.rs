@@ -107,8 +107,10 @@ pub trait Technique: Send {
     fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>>;
 }
 
-/// A mesh prepared by a technique, ready to be drawn into a frame.
-pub trait Drawable {
+/// A mesh prepared by a technique, ready to be drawn into a frame. `Send`, as wgpu's
+/// buffers are (and as [`Technique`] is), so that an engine holding prepared meshes can
+/// move to another thread: the Python package draws with the GIL released, from any thread.
+pub trait Drawable: Send {
     /// Records the passes that draw this mesh into the frame's targets.
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder);
     /// Triangles drawn per frame.
