@@ -52,7 +52,7 @@ pub use image;
 pub use isoline::{IsolineOptions, Isolines, RangeAdjust};
 pub use renderer::sampling::{SHARE_SIZE, SHARE_VIEWS, Sampling};
 pub use renderer::{Renderer, View};
-pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color};
+pub use style::{Colormap, Coverage, FaultLines, HiddenLines, MajorLines, Style, parse_color};
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).
 pub use wgpu;
