@@ -13,8 +13,6 @@
 //! cell seen again starts the next surface. Meshes without cell faces (decimated
 //! surfaces, hierarchies) have no traces here.
 
-use std::collections::HashMap;
-
 use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
@@ -57,25 +55,77 @@ fn layer_corners(mesh: &SurfaceMesh, cell: [u32; 3], triangles: [u32; 2]) -> Opt
     corners.iter().all(|&v| v != u32::MAX).then_some(corners)
 }
 
+/// A layer face: its cell and its corners (`layer_corners`).
+type LayerFace = ([u32; 3], [u32; 4]);
+
 /// The fault trace segments of `mesh`: both sides' edges wherever neighbouring cell
-/// faces of one layer surface do not meet.
+/// faces of one layer surface do not meet. The faces of a surface are found in a dense
+/// table over (i, j), not a hash map: a part of a large model holds millions.
 pub(crate) fn fault_segments(mesh: &SurfaceMesh) -> Vec<Segment> {
+    let faces: Vec<LayerFace> = mesh
+        .cell_faces
+        .iter()
+        .filter_map(|f| Some((f.cell, layer_corners(mesh, f.cell, f.triangles)?)))
+        .collect();
+    // The box of the faces' columns (a part of a large layer is a band of it).
+    let range = |axis: usize| {
+        let values = faces.iter().map(|(c, _)| c[axis] as usize);
+        let lo = values.clone().min().unwrap_or(0);
+        (lo, values.max().map_or(0, |hi| hi + 1 - lo))
+    };
+    let ((i0, ni), (j0, nj)) = (range(0), range(1));
+    let mut table = Surface {
+        faces: &faces,
+        ni,
+        slot: vec![u32::MAX; ni * nj],
+        members: Vec::new(),
+    };
     let mut out = Vec::new();
-    let mut surface: HashMap<[u32; 3], [u32; 4]> = HashMap::new();
-    let mut flush = |surface: &mut HashMap<[u32; 3], [u32; 4]>| {
-        for (&[i, j, k], c) in surface.iter() {
+    for (n, (cell, _)) in faces.iter().enumerate() {
+        let at = (cell[1] as usize - j0) * ni + cell[0] as usize - i0;
+        if table.slot[at] != u32::MAX {
+            // The column again: the next surface starts here.
+            table.flush(mesh, &mut out);
+        }
+        table.slot[at] = n as u32;
+        table.members.push(at);
+    }
+    table.flush(mesh, &mut out);
+    out
+}
+
+/// The faces of the surface being read, by column.
+struct Surface<'f> {
+    faces: &'f [LayerFace],
+    ni: usize,
+    /// Per column (i, j), the index of its face, `u32::MAX` for none.
+    slot: Vec<u32>,
+    /// The columns filled.
+    members: Vec<usize>,
+}
+
+impl Surface<'_> {
+    /// Adds the traces of the surface read so far to `out` and empties the table.
+    fn flush(&mut self, mesh: &SurfaceMesh, out: &mut Vec<Segment>) {
+        let at = |v: u32| mesh.positions[v as usize];
+        let same = |x: u32, y: u32| at(x).map(f32::to_bits) == at(y).map(f32::to_bits);
+        for &column in &self.members {
+            let ([_, _, k], c) = self.faces[self.slot[column] as usize];
             // Across +i: this face's corners (1, 0), (1, 1) against the next's (0, 0),
             // (0, 1); across +j: (0, 1), (1, 1) against (0, 0), (1, 0).
-            for (next, mine, theirs) in [
-                ([i + 1, j, k], [1, 3], [0, 2]),
-                ([i, j + 1, k], [2, 3], [0, 1]),
-            ] {
-                let Some(n) = surface.get(&next) else {
+            let next_i = ((column + 1) % self.ni != 0).then_some(column + 1);
+            let next_j = Some(column + self.ni).filter(|&n| n < self.slot.len());
+            for (next, mine, theirs) in [(next_i, [1, 3], [0, 2]), (next_j, [2, 3], [0, 1])] {
+                let Some(&face) = next.and_then(|n| self.slot.get(n)) else {
                     continue;
                 };
-                let at = |v: u32| mesh.positions[v as usize];
+                let Some(&(cell, n)) = self.faces.get(face as usize) else {
+                    continue;
+                };
+                if cell[2] != k {
+                    continue;
+                }
                 let (a, b) = (mine.map(|m| c[m]), theirs.map(|t| n[t]));
-                let same = |x: u32, y: u32| at(x).map(f32::to_bits) == at(y).map(f32::to_bits);
                 if same(a[0], b[0]) && same(a[1], b[1]) {
                     continue;
                 }
@@ -84,19 +134,11 @@ pub(crate) fn fault_segments(mesh: &SurfaceMesh) -> Vec<Segment> {
                 }
             }
         }
-        surface.clear();
-    };
-    for face in &mesh.cell_faces {
-        let Some(corners) = layer_corners(mesh, face.cell, face.triangles) else {
-            continue;
-        };
-        if surface.contains_key(&face.cell) {
-            flush(&mut surface);
+        for &column in &self.members {
+            self.slot[column] = u32::MAX;
         }
-        surface.insert(face.cell, corners);
+        self.members.clear();
     }
-    flush(&mut surface);
-    out
 }
 
 /// The pipeline that draws fault traces, shared by a technique's drawables.
@@ -122,7 +164,7 @@ pub(crate) fn fault_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
 /// A drawable and the fault traces of its mesh, drawn after it when the frame's style
 /// asks for them.
 pub(crate) struct Faulted<D> {
-    pub inner: D,
+    inner: D,
     traces: Option<(wgpu::RenderPipeline, wgpu::Buffer, u32)>,
 }
 
