@@ -199,7 +199,25 @@ pub struct WireStyle {
     pub coverage: CoverageChoice,
     /// Lines alone, in the cells' colours, on black.
     pub isolation: bool,
+    /// Every `major`-th cell line (and every `major`²-th) is major: drawn in
+    /// `major_color` while the others fade out where cells get small on screen; 0:
+    /// every line alike (`strata render --major`).
+    pub major: u32,
+    /// Spacing on screen, in pixels, at which a level of cell lines has faded out; it
+    /// is drawn whole from three times that spacing (`--fade`).
+    pub fade: f32,
+    /// Colour of the major lines: `#rrggbb[aa]` or a name.
+    pub major_color: String,
+    /// Thickness in pixels of the fault traces, drawn over the cell lines at every
+    /// zoom; 0: none (`--fault-thickness`).
+    pub fault_thickness: f32,
+    /// Colour of the fault traces: `#rrggbb[aa]` or a name.
+    pub fault_color: String,
 }
+
+/// The largest `WireStyle::major`: its square, the coarsest level of lines, stays an
+/// integer the shader's floats hold exactly.
+pub const MAX_MAJOR: u32 = 1000;
 
 impl Default for WireStyle {
     fn default() -> Self {
@@ -211,6 +229,11 @@ impl Default for WireStyle {
             attenuate: Attenuate::None,
             coverage: CoverageChoice::Auto,
             isolation: false,
+            major: 10,
+            fade: 4.0,
+            major_color: "#0d1f66".to_string(),
+            fault_thickness: 2.5,
+            fault_color: "#d62728".to_string(),
         }
     }
 }
@@ -429,6 +452,33 @@ impl Scene {
         }
         if parse_color(&wire.color).is_none() {
             return bad(format!("wire: color {:?} is not a colour", wire.color));
+        }
+        if wire.major == 1 || wire.major > MAX_MAJOR {
+            return bad(format!(
+                "wire: major {} is neither 0 (none) nor in 2..={MAX_MAJOR}",
+                wire.major
+            ));
+        }
+        if !(wire.fade > 0.0 && wire.fade.is_finite()) {
+            return bad(format!("wire: fade {} is not positive", wire.fade));
+        }
+        if parse_color(&wire.major_color).is_none() {
+            return bad(format!(
+                "wire: major_color {:?} is not a colour",
+                wire.major_color
+            ));
+        }
+        if !(wire.fault_thickness >= 0.0 && wire.fault_thickness.is_finite()) {
+            return bad(format!(
+                "wire: fault_thickness {} is not 0 or more",
+                wire.fault_thickness
+            ));
+        }
+        if parse_color(&wire.fault_color).is_none() {
+            return bad(format!(
+                "wire: fault_color {:?} is not a colour",
+                wire.fault_color
+            ));
         }
         if let Some(iso) = &self.isolines
             && iso.spacing.is_some_and(|s| !(s > 0.0 && s.is_finite()))
@@ -694,6 +744,11 @@ mod tests {
                 attenuate: Attenuate::Thickness,
                 coverage: CoverageChoice::Texture,
                 isolation: true,
+                major: 5,
+                fade: 2.5,
+                major_color: "#204080".into(),
+                fault_thickness: 4.0,
+                fault_color: "yellow".into(),
             },
             isolines: Some(IsolineSpec {
                 property: Some("PORO".into()),
@@ -814,6 +869,42 @@ mod tests {
             .contains("percent 0 is not in (0, 100]")
         );
         assert!(said("{").contains("scene: EOF while parsing"));
+        for (wire, says) in [
+            (
+                r#"{"major": 1}"#,
+                "major 1 is neither 0 (none) nor in 2..=1000",
+            ),
+            (r#"{"major": 1001}"#, "major 1001 is neither"),
+            (r#"{"fade": 0}"#, "fade 0 is not positive"),
+            (
+                r#"{"major_color": "mauve"}"#,
+                "major_color \"mauve\" is not a colour",
+            ),
+            (
+                r#"{"fault_thickness": -1}"#,
+                "fault_thickness -1 is not 0 or more",
+            ),
+            (
+                r#"{"fault_color": "x"}"#,
+                "fault_color \"x\" is not a colour",
+            ),
+        ] {
+            let json = format!("{{{model}, \"wire\": {wire}}}");
+            assert!(said(&json).contains(says), "{wire}: {}", said(&json));
+        }
+    }
+
+    #[test]
+    fn a_scene_written_before_major_lines_draws_them_and_zero_turns_them_off() {
+        let old = r##"{"model": {"path": "m.grdecl"}, "wire": {"technique": "global",
+            "hidden": "tehs", "thickness": 1.5, "color": "#141414", "attenuate": "none",
+            "coverage": "auto", "isolation": false}}"##;
+        let scene = Scene::from_json(old).expect("an older scene reads");
+        assert_eq!((scene.wire.major, scene.wire.fade), (10, 4.0));
+        assert_eq!(scene.wire.fault_thickness, 2.5);
+        let off = Scene::from_json(r#"{"model": {"path": "m"}, "wire": {"major": 0}}"#)
+            .expect("major 0 reads");
+        assert_eq!(off.wire.major, 0);
     }
 
     #[test]

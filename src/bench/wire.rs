@@ -24,7 +24,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use strata_render::glam::Vec3;
 use strata_render::wire::{Drawable, Family, Needs};
-use strata_render::{Camera, Coverage, FrameTimer, Renderer, Style, View, WireMode};
+use strata_render::{Camera, Coverage, FrameTimer, MajorLines, Renderer, Style, View, WireMode};
 
 use super::meshes::{self, Kind};
 
@@ -70,18 +70,25 @@ pub struct WireResult {
     pub ratio_to_none: f64,
 }
 
-/// A timed mode: a technique and, for the texture ones, the coverage form.
+/// A timed mode: a technique and, for the texture ones, the coverage form; `plain`
+/// leaves out the plan's major lines.
 #[derive(Clone, Copy, Debug)]
 struct Variant {
     mode: WireMode,
     coverage: Coverage,
+    plain: bool,
 }
 
 impl Variant {
     fn name(self) -> String {
-        match (self.mode.family(), self.coverage) {
+        let name = match (self.mode.family(), self.coverage) {
             (Family::Texture, Coverage::Analytic) => format!("{}-analytic", self.mode.name()),
             _ => self.mode.name().to_string(),
+        };
+        if self.plain {
+            format!("{name}-nomajor")
+        } else {
+            name
         }
     }
 }
@@ -90,20 +97,24 @@ impl Variant {
 /// shaded-only pipeline carries the texture techniques' disabled isoline and grid-line
 /// code, which costs the CPU rasterizers more in the texture form; see common.wgsl),
 /// then the edge techniques, then the texture ones the mesh carries coordinates for
-/// (`quad`'s cell faces aside) in both forms, those any mesh can draw first.
-fn variants(kind: Kind) -> Vec<Variant> {
-    let plain = |mode| Variant {
+/// (`quad`'s cell faces aside) in both forms, those any mesh can draw first. With major
+/// lines, `global` is timed without them too (`-nomajor`), in the same run: only ratios
+/// within one run compare on a CPU rasterizer.
+fn variants(kind: Kind, major: bool) -> Vec<Variant> {
+    let textured = |mode| Variant {
         mode,
         coverage: Coverage::Texture,
+        plain: false,
     };
     let mut out = vec![
-        plain(WireMode::None),
+        textured(WireMode::None),
         Variant {
             mode: WireMode::None,
             coverage: Coverage::Analytic,
+            plain: false,
         },
     ];
-    out.extend(WireMode::of_family(Family::Edges).map(plain));
+    out.extend(WireMode::of_family(Family::Edges).map(textured));
     let timed = |mode: &WireMode| match mode.needs() {
         Needs::Triangles => *mode != WireMode::None,
         Needs::GlobalCoordinates => kind.has_global(),
@@ -113,7 +124,20 @@ fn variants(kind: Kind) -> Vec<Variant> {
     texture.sort_by_key(|m| m.needs());
     for mode in texture {
         for coverage in [Coverage::Texture, Coverage::Analytic] {
-            out.push(Variant { mode, coverage });
+            out.push(Variant {
+                mode,
+                coverage,
+                plain: false,
+            });
+        }
+    }
+    if major && kind.has_global() {
+        for coverage in [Coverage::Texture, Coverage::Analytic] {
+            out.push(Variant {
+                mode: WireMode::Global,
+                coverage,
+                plain: true,
+            });
         }
     }
     out
@@ -130,6 +154,9 @@ pub struct Plan {
     warmup: usize,
     /// Timed frames per mesh and upload.
     frames: usize,
+    /// Major cell lines every this many cells, as `render --major` draws them by
+    /// default (0: none, every line alike).
+    major: u32,
 }
 
 /// The sizes of the full benchmark, by label.
@@ -148,6 +175,7 @@ impl Plan {
             kinds: Kind::ALL.to_vec(),
             warmup: 3,
             frames: 60,
+            major: 10,
         }
     }
 
@@ -160,6 +188,15 @@ impl Plan {
             kinds: vec![Kind::Reservoir],
             warmup: 1,
             frames: 4,
+            major: 10,
+        }
+    }
+
+    /// This plan with major cell lines every `every` cells (0: none).
+    pub fn major(self, every: u32) -> Plan {
+        Plan {
+            major: every,
+            ..self
         }
     }
 
@@ -247,7 +284,7 @@ fn time_mesh(
     plan: &Plan,
 ) -> Result<Vec<WireResult>> {
     let mesh = &bench.mesh;
-    let variants = variants(bench.kind);
+    let variants = variants(bench.kind, plan.major > 0);
     let mut drawables: Vec<(WireMode, Box<dyn Drawable>)> = Vec::new();
     for v in &variants {
         if drawables.iter().all(|(m, _)| *m != v.mode) {
@@ -293,6 +330,10 @@ fn time_mesh(
                 };
                 let style = Style {
                     coverage: v.coverage,
+                    major: (plan.major > 0 && !v.plain).then(|| MajorLines {
+                        every: plan.major,
+                        ..MajorLines::default()
+                    }),
                     ..Style::default()
                 };
                 let ms = if upload == "immediate" {
@@ -387,12 +428,21 @@ mod tests {
 
     #[test]
     fn global_is_timed_only_where_the_mesh_has_global_coordinates() {
-        let has = |kind| variants(kind).iter().any(|v| v.mode == WireMode::Global);
+        let has = |kind| {
+            variants(kind, true)
+                .iter()
+                .any(|v| v.mode == WireMode::Global)
+        };
         assert!(!has(Kind::Sphere));
         assert!(has(Kind::Terrain) && has(Kind::Reservoir));
-        assert_eq!(variants(Kind::Sphere)[0].name(), "none");
-        assert_eq!(variants(Kind::Sphere)[1].name(), "none-analytic");
-        let names: Vec<String> = variants(Kind::Reservoir).iter().map(|v| v.name()).collect();
+        assert_eq!(variants(Kind::Sphere, true)[0].name(), "none");
+        assert_eq!(variants(Kind::Sphere, true)[1].name(), "none-analytic");
+        let names = |major| -> Vec<String> {
+            variants(Kind::Reservoir, major)
+                .iter()
+                .map(|v| v.name())
+                .collect()
+        };
         let expected = [
             "none",
             "none-analytic",
@@ -406,7 +456,13 @@ mod tests {
             "global",
             "global-analytic",
         ];
-        assert_eq!(names, expected);
+        assert_eq!(names(false), expected);
+        let with_major = names(true);
+        assert_eq!(with_major[..expected.len()], expected);
+        assert_eq!(
+            with_major[expected.len()..],
+            ["global-nomajor", "global-analytic-nomajor"]
+        );
     }
 
     #[test]

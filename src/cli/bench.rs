@@ -65,6 +65,9 @@ pub enum BenchCommand {
         /// all).
         #[arg(long, value_delimiter = ',')]
         kinds: Vec<String>,
+        /// Major cell lines every N cells, as `render --major` (0: none).
+        #[arg(long, value_name = "N", default_value_t = 10)]
+        major: u32,
     },
     /// Line coverage of every wireframe technique against the exact coverage of the
     /// visible edges (16 x 16 samples per pixel): RMS error, missing and extra pixels.
@@ -125,13 +128,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
             quick,
             sizes,
             kinds,
+            major,
         } => {
             let plan = if quick {
                 wire::Plan::quick()
             } else {
                 wire::Plan::full()
             };
-            let report = wire::run(&plan.select(&sizes, &kinds)?)?;
+            let report = wire::run(&plan.major(major).select(&sizes, &kinds)?)?;
             print(&report, json, wire::print_table)
         }
         BenchCommand::Quality { json, images } => {

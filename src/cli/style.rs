@@ -93,6 +93,25 @@ pub struct StyleArgs {
     /// Lines alone, in the cells' colours, without the shaded surface.
     #[arg(long)]
     isolation: bool,
+    /// Every N-th cell line (and every N²-th) is major: drawn in --major-color while
+    /// the others fade out where cells get small on screen, so a dense grid keeps its
+    /// structure (0: every line alike).
+    #[arg(long, value_name = "N", default_value_t = 10)]
+    major: u32,
+    /// Spacing on screen, in pixels, at which a level of cell lines has faded out; it
+    /// is drawn whole from three times that spacing.
+    #[arg(long, value_name = "PX", default_value_t = 4.0)]
+    fade: f32,
+    /// Colour of the major cell lines: #rrggbb[aa] or a name.
+    #[arg(long, default_value = "#0d1f66")]
+    major_color: String,
+    /// Thickness in pixels of the fault traces, drawn over the cell lines at every
+    /// zoom (0: none).
+    #[arg(long, value_name = "PX", default_value_t = 2.5)]
+    fault_thickness: f32,
+    /// Colour of the fault traces: #rrggbb[aa] or a name.
+    #[arg(long, default_value = "#d62728")]
+    fault_color: String,
     /// Colour map: viridis, turbo, cividis, magma, inferno, plasma, spectral.
     #[arg(long, default_value = "viridis")]
     colormap: String,
@@ -134,6 +153,11 @@ impl StyleArgs {
             attenuate: self.attenuate.into(),
             coverage: self.coverage.into(),
             isolation: self.isolation,
+            major: self.major,
+            fade: self.fade,
+            major_color: self.major_color.clone(),
+            fault_thickness: self.fault_thickness,
+            fault_color: self.fault_color.clone(),
         };
         scene.colour.colormap = Colormap::from_name(&self.colormap)
             .ok_or_else(|| anyhow!("unknown colour map {:?}", self.colormap))?;

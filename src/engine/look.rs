@@ -5,7 +5,8 @@ use strata_grid::CornerPointGrid;
 use strata_render::glam::Vec3;
 use strata_render::wgpu::DeviceType;
 use strata_render::{
-    Attenuation, Camera, Coverage, Framing, GridLines, Isolines, Style, View, parse_color,
+    Attenuation, Camera, Coverage, FaultLines, Framing, GridLines, Isolines, MajorLines, Style,
+    View, parse_color,
 };
 
 use crate::scene::{Attenuate, CoverageChoice, IsolineSpec, Scene};
@@ -65,6 +66,32 @@ pub fn style(
             ..GridLines::new(g.spacing, display_origin)
         }),
         isolines,
+        major: match wire.major {
+            0 => None,
+            every => Some(MajorLines {
+                every,
+                fade: wire.fade,
+                color: parse_color(&wire.major_color).ok_or_else(|| {
+                    Error::scene(format!(
+                        "--major-color {:?} is not a colour",
+                        wire.major_color
+                    ))
+                })?,
+            }),
+        },
+        faults: if wire.fault_thickness > 0.0 {
+            Some(FaultLines {
+                thickness: wire.fault_thickness,
+                color: parse_color(&wire.fault_color).ok_or_else(|| {
+                    Error::scene(format!(
+                        "--fault-color {:?} is not a colour",
+                        wire.fault_color
+                    ))
+                })?,
+            })
+        } else {
+            None
+        },
         ..Style::default()
     })
 }
@@ -147,6 +174,29 @@ mod tests {
             coverage(CoverageChoice::Analytic, DiscreteGpu),
             Coverage::Analytic
         );
+    }
+
+    #[test]
+    fn major_lines_and_fault_traces_are_drawn_unless_the_scene_sets_zero() {
+        let mut scene = Scene::of_model("m.grdecl");
+        let drawn = |scene: &Scene| {
+            style(scene, DeviceType::Cpu, None, [0.0; 2], None)
+                .expect("a style")
+                .major
+        };
+        let major = drawn(&scene).expect("major lines by default");
+        assert_eq!((major.every, major.fade), (10, 4.0));
+        assert_eq!(Some(major.color), parse_color("#0d1f66"));
+        scene.wire.major = 0;
+        assert_eq!(drawn(&scene), None);
+        let faults = |scene: &Scene| {
+            style(scene, DeviceType::Cpu, None, [0.0; 2], None)
+                .expect("a style")
+                .faults
+        };
+        assert_eq!(faults(&scene).map(|f| f.thickness), Some(2.5));
+        scene.wire.fault_thickness = 0.0;
+        assert_eq!(faults(&scene), None);
     }
 
     #[test]

@@ -56,7 +56,7 @@ pub use overlay::overlay_origin;
 pub use renderer::sampling::{SHARE_SIZE, SHARE_VIEWS, Sampling};
 pub use renderer::{Output, Renderer, View};
 pub use scale::{CATEGORICAL, Scale, categorical_colour};
-pub use style::{Colormap, Coverage, HiddenLines, Style, parse_color};
+pub use style::{Colormap, Coverage, FaultLines, HiddenLines, MajorLines, Style, parse_color};
 pub use timing::{FrameTime, FrameTimer};
 /// The graphics crate of the public API (`Gpu` holds its device and adapter info).
 pub use wgpu;

@@ -59,6 +59,12 @@ struct FrameUniforms {
     iso_color: [f32; 4],
     grid: [f32; 4],
     grid_color: [f32; 4],
+    // Major cell lines (style.rs, `MajorLines`); x = 0: none.
+    major: [f32; 4],
+    major_color: [f32; 4],
+    // Fault traces (wire/faults.rs); x = 0: none.
+    faults: [f32; 4],
+    fault_color: [f32; 4],
 }
 
 impl FrameUniforms {
@@ -107,6 +113,14 @@ impl FrameUniforms {
             iso_color: style.isolines.map_or([0.0; 4], |i| i.color),
             grid: style.grid_lines.map_or([0.0; 4], |g| g.uniform()),
             grid_color: style.grid_lines.map_or([0.0; 4], |g| g.color),
+            major: style
+                .major
+                .map_or([0.0; 4], |m| [m.every as f32, m.fade, 0.0, 0.0]),
+            major_color: style.major.map_or([0.0; 4], |m| m.color),
+            faults: style
+                .faults
+                .map_or([0.0; 4], |f| [f.thickness, 0.0, 0.0, 0.0]),
+            fault_color: style.faults.map_or([0.0; 4], |f| f.color),
         }
     }
 }

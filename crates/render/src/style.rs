@@ -129,6 +129,52 @@ impl Colormap {
     }
 }
 
+/// Major cell lines, as map grids draw them: every `every`-th cell line (and every
+/// `every`²-th) stays drawn, in its own colour, while the other lines fade out where
+/// their spacing on screen gets too small to tell them apart (see `cell_lines` in
+/// wire/common.wgsl). Grids whose cells are a pixel or two then show their structure
+/// instead of a uniform sheet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MajorLines {
+    /// Every `every`-th cell line is major, counted from the grid's first node (at
+    /// least 2).
+    pub every: u32,
+    /// Spacing on screen, in pixels, at which a level of lines is gone; it is drawn
+    /// whole from three times that spacing.
+    pub fade: f32,
+    /// Colour of the major lines, linear RGBA.
+    pub color: [f32; 4],
+}
+
+impl Default for MajorLines {
+    fn default() -> Self {
+        MajorLines {
+            every: 10,
+            fade: 4.0,
+            color: [0.05, 0.12, 0.4, 1.0],
+        }
+    }
+}
+
+/// Fault traces: where a layer surface is split, each side's cell edge drawn over the
+/// surfaces in its own colour and thickness, the same at every zoom (wire/faults.rs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaultLines {
+    /// Thickness in pixels.
+    pub thickness: f32,
+    /// Colour, linear RGBA.
+    pub color: [f32; 4],
+}
+
+impl Default for FaultLines {
+    fn default() -> Self {
+        FaultLines {
+            thickness: 2.5,
+            color: [0.84, 0.15, 0.16, 1.0],
+        }
+    }
+}
+
 /// Everything about a frame's look that is not geometry or camera.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Style {
@@ -162,6 +208,10 @@ pub struct Style {
     pub isolines: Option<Isolines>,
     /// Map grid lines.
     pub grid_lines: Option<GridLines>,
+    /// Major cell lines, the others fading; `None`: every cell line alike.
+    pub major: Option<MajorLines>,
+    /// Fault traces over the cell lines; `None`: none.
+    pub faults: Option<FaultLines>,
 }
 
 impl Default for Style {
@@ -182,6 +232,8 @@ impl Default for Style {
             hidden: HiddenLines::Suppressed,
             isolines: None,
             grid_lines: None,
+            major: None,
+            faults: None,
         }
     }
 }

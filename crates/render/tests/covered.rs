@@ -9,7 +9,7 @@
 mod support;
 
 use strata_grid::{Face, SurfaceMesh, Surfaces, layer_surfaces};
-use strata_lod::{BuildOptions, CellCover, LodFile, Options, build_file, decimate};
+use strata_lod::{CellCover, LodFile, Options, decimate};
 use strata_render::glam::Vec3;
 use strata_render::{
     Camera, CellDraw, Coverage, Stacking, Style, TiledCells, View, WireMode, stack_pushes,
@@ -477,49 +477,6 @@ fn visible_tiles_are_those_the_nearest_surface_shows_and_only_those() {
             .is_err(),
         "a vertex of a piece the cover does not have is refused"
     );
-}
-
-/// A grid of `n` x `n` x `nz` cells of 10 m on vertical pillars, its horizon `level`
-/// (0 the top) at depth `depth(i, j, level)` at node (i, j), with `poro(i, j, k)` as
-/// PORO, and its hierarchy of 8-cell tiles saved at `path`.
-fn square_hierarchy(
-    path: &std::path::Path,
-    (n, nz): (usize, usize),
-    depth: impl Fn(usize, usize, usize) -> f32 + Copy,
-    poro: impl Fn(usize, usize, usize) -> f32,
-) -> (strata_grid::CornerPointGrid, LodFile) {
-    let coord: Vec<f64> = (0..=n)
-        .flat_map(|j| (0..=n).map(move |i| (i, j)))
-        .flat_map(|(i, j)| {
-            let (x, y) = (10.0 * i as f64, 10.0 * j as f64);
-            [x, y, 1000.0, x, y, 1100.0]
-        })
-        .collect();
-    let zcorn: Vec<f32> = (0..nz)
-        .flat_map(|k| [k, k + 1])
-        .flat_map(|level| {
-            (0..n).flat_map(move |j| {
-                (0..2).flat_map(move |dj| {
-                    (0..n).flat_map(move |i| (0..2).map(move |di| depth(i + di, j + dj, level)))
-                })
-            })
-        })
-        .collect();
-    let dims = strata_grid::Dims { nx: n, ny: n, nz };
-    let mut grid =
-        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a grid");
-    grid.set_property(
-        "PORO",
-        strata_grid::ndarray::Array3::from_shape_fn((nz, n, n), |(k, j, i)| poro(i, j, k)),
-    )
-    .expect("PORO");
-    let options = BuildOptions {
-        tile_cells: 8,
-        ..BuildOptions::default()
-    };
-    build_file(&grid, Some("PORO"), path, &options).expect("build");
-    let file = LodFile::open(path).expect("open");
-    (grid, file)
 }
 
 /// A stack of four layers of 48 x 48 cells of 10 m on a dome, their porosity rising

@@ -31,6 +31,14 @@ struct Frame {
     // y; z: 2 / spacing; w: 1 drawn, 0 not.
     grid: vec4<f32>,
     grid_color: vec4<f32>,
+    // Major cell lines (cell_lines): x: every x-th cell line is major, and every x^2-th
+    // too (0: none, every line is drawn alike); y: on-screen spacing in pixels at
+    // which a level of lines is gone.
+    major: vec4<f32>,
+    major_color: vec4<f32>,
+    // Fault traces (faults.rs): x: thickness in pixels, 0: not drawn.
+    faults: vec4<f32>,
+    fault_color: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -158,6 +166,80 @@ fn coverage(x: f32, grad: f32, a: f32) -> f32 {
         return coverage_analytic(x, grad, a);
     }
     return coverage_texture(x, grad, a);
+}
+
+// Opacity of a level of lines `spacing` px apart: none at the fade spacing, full at
+// three times it. Linear in the spacing, so that the level's mean coverage (about
+// opacity x thickness / spacing) still grows as one zooms in all the way to full
+// strength; a smoothstep would flatten near the top and let it fall.
+fn line_fade(spacing: f32) -> f32 {
+    let gone = frame.major.y;
+    return clamp((spacing - gone) / (2.0 * gone), 0.0, 1.0);
+}
+
+// Whether the line index `index` is a multiple of `n` (floats hold these exactly).
+fn is_multiple(index: f32, n: f32) -> bool {
+    return abs(index - n * round(index / n)) < 0.5;
+}
+
+// N^level for the levels 0, 1 and 2 (exact, where pow need not be).
+fn level_scale(level: f32, n: f32) -> f32 {
+    return select(select(1.0, n, level > 0.5), n * n, level > 1.5);
+}
+
+// Coverage of a pixel by the cell lines of the global coordinate `x` (odd on every
+// line, two units per cell, `grad` units per pixel), as (minor, major). With major
+// lines every N cells, lines form three levels: every cell (0), every N (1) and every
+// N^2 (2, never faded). The finest level whose lines are more than the fade spacing
+// apart is drawn, each line with the opacity of the coarsest level it belongs to, so
+// the nearest line alone is evaluated, once, whatever the level: a texture tap or an
+// analytic evaluation per family as without major lines. A line of a coarser level
+// than the finest drawn is evaluated in that level's own coordinate (x - 1) / N^l + 1,
+// with the saturation cap of its own spacing: where the cell lines are gone, the major
+// lines keep their full width. The level changes per pixel with the gradient, so the
+// near and far parts of an oblique view each get theirs; at a change, the lines of
+// the finer level are at zero opacity, so nothing pops.
+fn cell_lines(x: f32, grad: f32, a: f32) -> vec2<f32> {
+    let n = frame.major.x;
+    if n < 1.5 {
+        return vec2<f32>(coverage(x, grad, a), 0.0);
+    }
+    let cell_px = 2.0 / max(grad, 1.0e-12);
+    var level = 0.0;
+    if cell_px <= frame.major.y {
+        level = select(1.0, 2.0, n * cell_px <= frame.major.y);
+    }
+    // The nearest line of that level, and the coarsest level it belongs to.
+    let index = floor(0.5 * ((x - 1.0) / level_scale(level, n) + 1.0));
+    var rank = level;
+    if level < 2.0 && is_multiple(index, n) {
+        rank = select(level + 1.0, 2.0, level < 1.0 && is_multiple(index, n * n));
+    }
+    let scale = level_scale(rank, n);
+    let c = coverage((x - 1.0) / scale + 1.0, grad / scale, a);
+    let w = c * select(line_fade(scale * cell_px), 1.0, rank > 1.5);
+    return select(vec2<f32>(w, 0.0), vec2<f32>(0.0, w), rank > 0.5);
+}
+
+// The wire of the techniques with coordinates of their own (quad, tex, texgs), as
+// (minor, major): `local` is their coverage of the cell edges. With major lines, those
+// come from the global coordinates `uv` (cell_lines) and `local` draws the others,
+// faded as the denser family of cell lines fades, and only where it covers more than
+// the major line: on a major line it is that line, which must not count twice.
+fn local_cells(local: f32, uv: vec2<f32>, a: f32) -> vec2<f32> {
+    if frame.major.x < 1.5 {
+        return vec2<f32>(local, 0.0);
+    }
+    let du = dpdx(uv);
+    let dv = dpdy(uv);
+    let gu = length(vec2<f32>(du.x, dv.x));
+    let gv = length(vec2<f32>(du.y, dv.y));
+    let major = union2(cell_lines(uv.x, gu, a).y, cell_lines(uv.y, gv, a).y);
+    let minor = local * line_fade(2.0 / max(max(gu, gv), 1.0e-12));
+    // Over the major line's colour, the share of the minor line's that brings the
+    // total to `minor` (compose_cells).
+    let over = select(0.0, (minor - major) / max(1.0 - major, 1.0e-6), minor > major);
+    return vec2<f32>(over, major);
 }
 
 // Union of two line families' coverages.
@@ -289,9 +371,16 @@ fn extra_lines_floored(wp: vec3<f32>, s: f32, a: f32, min_grad: f32) -> vec4<f32
 // compose() with lines decoupled from the mesh laid over the wireframe: `extra` is
 // extra_lines' premultiplied colour and coverage.
 fn compose_lines(base: vec4<f32>, lit: vec3<f32>, cov: f32, extra: vec4<f32>) -> vec4<f32> {
+    return compose_cells(base, lit, vec2<f32>(cov, 0.0), extra);
+}
+
+// compose_lines with the wire's coverage as (minor, major) (cell_lines): major lines in
+// their own colour over the minor ones.
+fn compose_cells(base: vec4<f32>, lit: vec3<f32>, cov: vec2<f32>, extra: vec4<f32>) -> vec4<f32> {
     if frame.line.w > 0.5 {
-        return vec4<f32>(base.rgb, union2(cov, extra.a));
+        return vec4<f32>(base.rgb, union2(union2(cov.x, cov.y), extra.a));
     }
-    let wired = mix(lit, frame.wire_color.rgb, cov * frame.wire_color.a);
+    let minor = mix(lit, frame.wire_color.rgb, cov.x * frame.wire_color.a);
+    let wired = mix(minor, frame.major_color.rgb, cov.y * frame.major_color.a);
     return vec4<f32>(wired * (1.0 - extra.a) + extra.rgb, 1.0);
 }

@@ -5,6 +5,7 @@
 mod bias;
 mod cells;
 mod distance;
+mod faults;
 mod idbuffer;
 pub mod labels;
 mod lines;

@@ -8,6 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
+use super::faults::{Faulted, fault_pipeline};
 use super::labels::{Labelling, label_vertices};
 use super::lines::{PulledMesh, check_mesh, storage, storage_layout};
 use super::{
@@ -35,24 +36,40 @@ pub(super) struct UvVertex {
     scalar: f32,
 }
 
+/// `global`: the vertex's global coordinates, for major lines.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct Tex3Vertex {
     position: [f32; 3],
     s: [f32; 3],
     scalar: f32,
+    global: [f32; 2],
+}
+
+/// A `quad` vertex: the per-quad coordinates `uv` and, for major lines, the global ones.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct QuadVertex {
+    position: [f32; 3],
+    uv: [f32; 2],
+    scalar: f32,
+    global: [f32; 2],
 }
 
 pub(super) const UV_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
     wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x2, 2 => Float32];
-const TEX3_ATTRIBUTES: [wgpu::VertexAttribute; 3] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32];
+const TEX3_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32, 3 => Float32x2];
+const QUAD_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x2, 2 => Float32, 3 => Float32x2];
 
 /// `none`, `global`, `quad` and `tex`: indexed vertex buffers.
 pub struct VertexTechnique {
     mode: WireMode,
     /// One per coverage form and use of extra lines (`texture_pipelines`).
     pipelines: [wgpu::RenderPipeline; 4],
+    /// Fault traces over the wireframe (faults.rs).
+    faults: wgpu::RenderPipeline,
 }
 
 impl VertexTechnique {
@@ -68,9 +85,15 @@ impl VertexTechnique {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &TEX3_ATTRIBUTES,
         };
+        let quad_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<QuadVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &QUAD_ATTRIBUTES,
+        };
         let (entries, layout) = match mode {
             WireMode::None => (("vs_uv", "fs_shaded"), uv_layout),
             WireMode::Tex => (("vs_tex3", "fs_tex3"), tex3_layout),
+            WireMode::Quad => (("vs_quad", "fs_quad"), quad_layout),
             _ => (("vs_uv", "fs_uv"), uv_layout),
         };
         let buffers = [Some(layout)];
@@ -79,7 +102,11 @@ impl VertexTechnique {
             ..PipelineRequest::new(mode.name(), &module, entries)
         };
         let pipelines = texture_pipelines(ctx, &request);
-        VertexTechnique { mode, pipelines }
+        VertexTechnique {
+            mode,
+            pipelines,
+            faults: fault_pipeline(ctx),
+        }
     }
 }
 
@@ -91,8 +118,11 @@ impl Technique for VertexTechnique {
     fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
         // Uploaded from where they are made: copies of a part's vertices and indices
         // cost as much as making them.
+        let faulted = |draw: IndexedDraw| -> Box<dyn Drawable> {
+            Box::new(Faulted::new(gpu, draw, mesh, &self.faults))
+        };
         let draw = |vertices: &[u8], triangles: &[[u32; 3]]| -> Result<Box<dyn Drawable>> {
-            Ok(Box::new(IndexedDraw::new(
+            Ok(faulted(IndexedDraw::new(
                 gpu,
                 self.pipelines.clone(),
                 vertices,
@@ -115,17 +145,26 @@ impl Technique for VertexTechnique {
                         position: mesh.positions[src as usize],
                         s: Labelling::coordinates(label),
                         scalar: scalar_at(mesh, src as usize),
+                        global: mesh.texcoords[src as usize],
                     })
                     .collect();
                 draw(bytemuck::cast_slice(&v), &l.triangles)
             }
-            _ => Ok(Box::new(IndexedDraw::of_mesh(
-                gpu,
-                self.pipelines.clone(),
-                mesh,
-                &mesh.triangles,
-                self.mode.name(),
-            )?)),
+            mode => {
+                let draw = IndexedDraw::of_mesh(
+                    gpu,
+                    self.pipelines.clone(),
+                    mesh,
+                    &mesh.triangles,
+                    mode.name(),
+                )?;
+                // The shaded surface alone draws no lines at all.
+                Ok(if mode == WireMode::None {
+                    Box::new(draw)
+                } else {
+                    faulted(draw)
+                })
+            }
         }
     }
 }
@@ -133,7 +172,7 @@ impl Technique for VertexTechnique {
 /// Every cell face gets its own four vertices with coordinates -1 / +1 on opposite
 /// sides; the diagonal the two triangles share runs from (-1, -1) to (1, 1) and so
 /// never reaches a line.
-fn quad_vertices(mesh: &SurfaceMesh) -> Result<(Vec<UvVertex>, Vec<[u32; 3]>)> {
+fn quad_vertices(mesh: &SurfaceMesh) -> Result<(Vec<QuadVertex>, Vec<[u32; 3]>)> {
     if mesh.cell_faces.is_empty() {
         return Err(Error::Invalid(
             "the quad wireframe needs a mesh made of cell faces".into(),
@@ -168,10 +207,11 @@ fn quad_vertices(mesh: &SurfaceMesh) -> Result<(Vec<UvVertex>, Vec<[u32; 3]>)> {
             (d1, [1.0, 1.0]),
             (y, [-1.0, 1.0]),
         ] {
-            vertices.push(UvVertex {
+            vertices.push(QuadVertex {
                 position: mesh.positions[v as usize],
                 uv,
                 scalar: scalar_at(mesh, v as usize),
+                global: mesh.texcoords[v as usize],
             });
         }
         triangles.push([base, base + 1, base + 2]);
@@ -295,6 +335,7 @@ impl Drawable for IndexedDraw {
 pub struct PulledTechnique {
     pipelines: [wgpu::RenderPipeline; 4],
     layout: wgpu::BindGroupLayout,
+    faults: wgpu::RenderPipeline,
 }
 
 impl PulledTechnique {
@@ -312,7 +353,11 @@ impl PulledTechnique {
             ..PipelineRequest::new("texgs", &module, ("vs_texgs", "fs_tex3"))
         };
         let pipelines = texture_pipelines(ctx, &request);
-        PulledTechnique { pipelines, layout }
+        PulledTechnique {
+            pipelines,
+            layout,
+            faults: fault_pipeline(ctx),
+        }
     }
 }
 
@@ -328,27 +373,33 @@ impl Technique for PulledTechnique {
         let mut pulled = PulledMesh::new(gpu, mesh, "texgs vertices")?;
         let mut bytes = 0;
         let mut draws = Vec::new();
-        // Per triangle: three indices and the mask.
-        pulled.for_each_chunk(gpu, &mesh.triangles, &[0, 1, 2], 12, |chunk| {
+        // Per triangle: three indices, then the mask and its corners' global
+        // coordinates (texture.wgsl, `pulled_triangles`).
+        pulled.for_each_chunk(gpu, &mesh.triangles, &[0, 1, 2], 40, |chunk| {
             let indices = storage(gpu, "texgs triangles", bytemuck::cast_slice(chunk.items))?;
-            let masks = storage(
-                gpu,
-                "texgs edge masks",
-                bytemuck::cast_slice(&masks[chunk.range.clone()]),
-            )?;
-            bytes += indices.size() + masks.size();
-            let own = [(2, &indices), (3, &masks)];
+            let records: Vec<u32> = chunk
+                .range
+                .clone()
+                .flat_map(|t| {
+                    let uv = mesh.triangles[t].map(|v| mesh.texcoords[v as usize]);
+                    std::iter::once(masks[t]).chain(uv.into_iter().flatten().map(f32::to_bits))
+                })
+                .collect();
+            let records = storage(gpu, "texgs edge masks", bytemuck::cast_slice(&records))?;
+            bytes += indices.size() + records.size();
+            let own = [(2, &indices), (3, &records)];
             let group = chunk.bind_group(device, "texgs", &self.layout, &own);
             draws.push((group, 3 * chunk.items.len() as u32));
             Ok(())
         })?;
         bytes += pulled.bytes();
-        Ok(Box::new(PulledDraw {
+        let draw = PulledDraw {
             pipelines: self.pipelines.clone(),
             draws,
             triangles: mesh.triangles.len(),
             bytes,
-        }))
+        };
+        Ok(Box::new(Faulted::new(gpu, draw, mesh, &self.faults)))
     }
 }
 

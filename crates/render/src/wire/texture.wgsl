@@ -2,10 +2,12 @@
 // polygons, by mapping the wireframe texture with coordinates that reach an odd value
 // on the edges to draw.
 //  - vs_uv + fs_uv: two families from a 2D coordinate, lines at odd values with
-//    mirrored-repeat addressing: `global` (node (i, j) at (2i + 1, 2j + 1)) and
-//    `quad` (per-quad -1 / +1);
+//    mirrored-repeat addressing: `global` (node (i, j) at (2i + 1, 2j + 1));
+//  - vs_quad + fs_quad: the same from per-quad -1 / +1 (`quad`);
 //  - vs_tex3 + fs_tex3: three families, one per triangle edge, the edge where a
 //    coordinate reaches 1: `tex` (per-vertex labels);
+// The techniques with coordinates of their own also carry the global ones, from which
+// major lines are drawn (local_cells in common.wgsl).
 //  - vs_texgs + fs_tex3: the same coordinates made per triangle from the corner
 //    index while pulling vertices from storage (`texgs`: wgpu has no geometry shader).
 
@@ -18,12 +20,14 @@ struct UvOut {
     @location(3) iso: f32,
 }
 
+// `uv`: the global coordinates, for major lines (local_cells).
 struct Tex3Out {
     @builtin(position) position: vec4<f32>,
     @location(0) wp: vec3<f32>,
     @location(1) s: vec3<f32>,
     @location(2) scalar: f32,
     @location(3) iso: f32,
+    @location(4) uv: vec2<f32>,
 }
 
 // Gradient length of one coordinate, in coordinate units per pixel.
@@ -49,6 +53,34 @@ fn fs_uv(in: UvOut) -> @location(0) vec4<f32> {
     return uv_colour(in, in.scalar, in.iso, true);
 }
 
+// `quad`: per-quad coordinates `uv` (-1 / +1 on opposite sides) and the global ones,
+// for major lines (local_cells).
+struct QuadOut {
+    @builtin(position) position: vec4<f32>,
+    @location(0) wp: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) scalar: f32,
+    @location(3) iso: f32,
+    @location(4) global: vec2<f32>,
+}
+
+@vertex
+fn vs_quad(@location(0) p: vec3<f32>, @location(1) uv: vec2<f32>, @location(2) scalar: f32, @location(3) global: vec2<f32>) -> QuadOut {
+    let wp = world(p);
+    return QuadOut(clip(wp), wp, uv, scalar, line_coordinate(scalar), global);
+}
+
+@fragment
+fn fs_quad(in: QuadOut) -> @location(0) vec4<f32> {
+    let du = dpdx(in.uv);
+    let dv = dpdy(in.uv);
+    let a = depth_fraction(in.wp);
+    let local = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
+    let base = base_color(in.scalar);
+    let extra = extra_lines(in.wp, in.iso, a);
+    return compose_cells(base, shade(base.rgb, dpdx(in.wp), dpdy(in.wp)), local_cells(local, in.global, a), extra);
+}
+
 // The surface coloured by `colour_scalar`, with `wire` under the two line families of
 // `in.uv`; isolines follow the line coordinate `iso`.
 fn uv_colour(in: UvOut, colour_scalar: f32, iso: f32, wire: bool) -> vec4<f32> {
@@ -57,13 +89,15 @@ fn uv_colour(in: UvOut, colour_scalar: f32, iso: f32, wire: bool) -> vec4<f32> {
     let du = dpdx(in.uv);
     let dv = dpdy(in.uv);
     let a = depth_fraction(in.wp);
-    var cov = 0.0;
+    var cov = vec2<f32>(0.0);
     if wire {
-        cov = union2(coverage(in.uv.x, grad_len(du.x, dv.x), a), coverage(in.uv.y, grad_len(du.y, dv.y), a));
+        let cu = cell_lines(in.uv.x, grad_len(du.x, dv.x), a);
+        let cv = cell_lines(in.uv.y, grad_len(du.y, dv.y), a);
+        cov = vec2<f32>(union2(cu.x, cv.x), union2(cu.y, cv.y));
     }
     let base = base_color(colour_scalar);
     let extra = extra_lines(in.wp, iso, a);
-    return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
+    return compose_cells(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
 // Cells of the surfaces a decimated one was simplified from (strata-lod's CellCover),
@@ -254,9 +288,9 @@ fn fs_uv_cells_bare(in: CoverOut) -> @location(0) vec4<f32> {
 }
 
 @vertex
-fn vs_tex3(@location(0) p: vec3<f32>, @location(1) s: vec3<f32>, @location(2) scalar: f32) -> Tex3Out {
+fn vs_tex3(@location(0) p: vec3<f32>, @location(1) s: vec3<f32>, @location(2) scalar: f32, @location(3) uv: vec2<f32>) -> Tex3Out {
     let wp = world(p);
-    return Tex3Out(clip(wp), wp, s, scalar, line_coordinate(scalar));
+    return Tex3Out(clip(wp), wp, s, scalar, line_coordinate(scalar), uv);
 }
 
 @fragment
@@ -271,23 +305,31 @@ fn fs_tex3(in: Tex3Out) -> @location(0) vec4<f32> {
     let c2 = coverage(in.s.z, grad_len(dsx.z, dsy.z), a);
     let base = base_color(in.scalar);
     let extra = extra_lines(in.wp, in.iso, a);
-    return compose_lines(base, shade(base.rgb, dpx, dpy), union2(union2(c0, c1), c2), extra);
+    let cov = local_cells(union2(union2(c0, c1), c2), in.uv, a);
+    return compose_cells(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
 // Vertex pulling for texgs: positions (xyz packed), scalars, the index buffer, and per
-// triangle the mask of real edges (bit e: edge from corner e to corner e + 1; a quad's
-// diagonal is not real and is never drawn).
+// triangle seven words: the mask of real edges (bit e: edge from corner e to corner
+// e + 1; a quad's diagonal is not real and is never drawn), then its corners' global
+// coordinates as f32 bits, for major lines (in one buffer: the downlevel limit is four
+// storage buffers in a vertex shader).
 @group(1) @binding(0) var<storage, read> pulled_positions: array<f32>;
 @group(1) @binding(1) var<storage, read> pulled_scalars: array<f32>;
 @group(1) @binding(2) var<storage, read> pulled_indices: array<u32>;
-@group(1) @binding(3) var<storage, read> pulled_edge_masks: array<u32>;
+@group(1) @binding(3) var<storage, read> pulled_triangles: array<u32>;
 
 @vertex
 fn vs_texgs(@builtin(vertex_index) vi: u32) -> Tex3Out {
     let corner = vi % 3u;
     let v = pulled_indices[vi];
     let p = vec3<f32>(pulled_positions[3u * v], pulled_positions[3u * v + 1u], pulled_positions[3u * v + 2u]);
-    let mask = pulled_edge_masks[vi / 3u];
+    let record = 7u * (vi / 3u);
+    let mask = pulled_triangles[record];
+    let uv = vec2<f32>(
+        bitcast<f32>(pulled_triangles[record + 1u + 2u * corner]),
+        bitcast<f32>(pulled_triangles[record + 2u + 2u * corner]),
+    );
     // Family c draws the edge opposite corner c, i.e. edge (c + 1) % 3: it is 1 at the
     // two other corners and 0 at corner c, or 0 everywhere when that edge is not real.
     var s = vec3<f32>(1.0, 1.0, 1.0);
@@ -299,5 +341,5 @@ fn vs_texgs(@builtin(vertex_index) vi: u32) -> Tex3Out {
     }
     let wp = world(p);
     let scalar = pulled_scalars[v];
-    return Tex3Out(clip(wp), wp, s, scalar, line_coordinate(scalar));
+    return Tex3Out(clip(wp), wp, s, scalar, line_coordinate(scalar), uv);
 }

@@ -47,6 +47,7 @@ use std::sync::{Mutex, MutexGuard, OnceLock, PoisonError};
 
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
+use strata_lod::{BuildOptions, LodFile, build_file};
 use strata_render::glam::{Mat2, Mat4, Vec2, Vec3};
 use strata_render::{Camera, Coverage, Renderer, Style, View};
 
@@ -330,6 +331,51 @@ pub fn measure_grid(
     sigma: f32,
     per_cell: usize,
 ) -> Vec<Scan> {
+    measure_grid_every(frame, proj, grid, sigma, per_cell, 1)
+}
+
+/// [`measure_grid`] for the lines every `every` cells alone (major lines), as if
+/// they were the only ones: `per_cell` places between two crossing lines of theirs,
+/// clear of their neighbours; the cell width of a scan is theirs (`every` cells).
+pub fn measure_grid_every(
+    frame: &Frame,
+    proj: &Projector,
+    grid: &PlaneGrid,
+    sigma: f32,
+    per_cell: usize,
+    every: usize,
+) -> Vec<Scan> {
+    let mut scans = Vec::new();
+    for family in [Family::I, Family::J] {
+        let n_lines = match family {
+            Family::I => grid.ni,
+            Family::J => grid.nj,
+        };
+        // Interior lines only: the border lines are half lines by design.
+        for k in (every..n_lines).step_by(every) {
+            scans.extend(measure_line(
+                frame,
+                proj,
+                grid,
+                (sigma, per_cell, every),
+                family,
+                k,
+            ));
+        }
+    }
+    scans
+}
+
+/// The scans of [`measure_grid_every`] across line `k` of `family` alone, for lines
+/// `sigma` px wide, `per_cell` of them between crossings `every` cells apart.
+pub fn measure_line(
+    frame: &Frame,
+    proj: &Projector,
+    grid: &PlaneGrid,
+    (sigma, per_cell, every): (f32, usize, usize),
+    family: Family,
+    k: usize,
+) -> Vec<Scan> {
     let screen_line = |family: Family, k: usize| -> ScreenLine {
         let k = k as f32;
         match family {
@@ -343,44 +389,43 @@ pub fn measure_grid(
             ),
         }
     };
+    let n_along = match family {
+        Family::I => grid.nj,
+        Family::J => grid.ni,
+    };
+    let across = match family {
+        Family::I => Family::J,
+        Family::J => Family::I,
+    };
     let mut scans = Vec::new();
-    for family in [Family::I, Family::J] {
-        let (n_lines, n_along) = match family {
-            Family::I => (grid.ni, grid.nj),
-            Family::J => (grid.nj, grid.ni),
-        };
-        let across = match family {
-            Family::I => Family::J,
-            Family::J => Family::I,
-        };
-        // Interior lines only: the border lines are half lines by design.
-        for k in 1..n_lines {
-            let line = screen_line(family, k);
-            let neighbours = [screen_line(family, k - 1), screen_line(family, k + 1)];
-            for m in 0..n_along {
-                let crossings = [screen_line(across, m), screen_line(across, m + 1)];
-                for s in 0..per_cell {
-                    let f = (s as f32 + 0.5) / per_cell as f32;
-                    let (a, b) = match family {
-                        Family::I => (k as f32, m as f32 + f),
-                        Family::J => (m as f32 + f, k as f32),
-                    };
-                    let cell_px = cell_width_px(proj, grid, family, a, b);
-                    if cell_px < 3.0 * sigma {
-                        continue;
-                    }
-                    let at = proj.to_px(grid.point(a, b));
-                    let others: Vec<ScreenLine> =
-                        neighbours.iter().chain(&crossings).copied().collect();
-                    if let Some(scan) = scan_across(frame, line, at, sigma, &others) {
-                        scans.push(Scan {
-                            family,
-                            index: k,
-                            cell_px,
-                            ..scan
-                        });
-                    }
-                }
+    let line = screen_line(family, k);
+    let neighbours = [
+        screen_line(family, k - every),
+        screen_line(family, k + every),
+    ];
+    for m in (0..n_along).step_by(every) {
+        let end = (m + every).min(n_along);
+        let crossings = [screen_line(across, m), screen_line(across, end)];
+        for s in 0..per_cell {
+            let f = (s as f32 + 0.5) / per_cell as f32;
+            let along = m as f32 + f * (end - m) as f32;
+            let (a, b) = match family {
+                Family::I => (k as f32, along),
+                Family::J => (along, k as f32),
+            };
+            let cell_px = every as f32 * cell_width_px(proj, grid, family, a, b);
+            if cell_px < 3.0 * sigma {
+                continue;
+            }
+            let at = proj.to_px(grid.point(a, b));
+            let others: Vec<ScreenLine> = neighbours.iter().chain(&crossings).copied().collect();
+            if let Some(scan) = scan_across(frame, line, at, sigma, &others) {
+                scans.push(Scan {
+                    family,
+                    index: k,
+                    cell_px,
+                    ..scan
+                });
             }
         }
     }
@@ -634,4 +679,47 @@ pub fn half_coverage_edges(pos: &[f32], cov: &[f32]) -> (f32, Option<(f32, f32)>
         _ => None,
     };
     (peak, edges)
+}
+
+/// A grid of `n` x `n` x `nz` cells of 10 m on vertical pillars, its horizon `level`
+/// (0 the top) at depth `depth(i, j, level)` at node (i, j), with `poro(i, j, k)` as
+/// PORO, and its hierarchy of 8-cell tiles saved at `path`.
+pub fn square_hierarchy(
+    path: &std::path::Path,
+    (n, nz): (usize, usize),
+    depth: impl Fn(usize, usize, usize) -> f32 + Copy,
+    poro: impl Fn(usize, usize, usize) -> f32,
+) -> (strata_grid::CornerPointGrid, LodFile) {
+    let coord: Vec<f64> = (0..=n)
+        .flat_map(|j| (0..=n).map(move |i| (i, j)))
+        .flat_map(|(i, j)| {
+            let (x, y) = (10.0 * i as f64, 10.0 * j as f64);
+            [x, y, 1000.0, x, y, 1100.0]
+        })
+        .collect();
+    let zcorn: Vec<f32> = (0..nz)
+        .flat_map(|k| [k, k + 1])
+        .flat_map(|level| {
+            (0..n).flat_map(move |j| {
+                (0..2).flat_map(move |dj| {
+                    (0..n).flat_map(move |i| (0..2).map(move |di| depth(i + di, j + dj, level)))
+                })
+            })
+        })
+        .collect();
+    let dims = strata_grid::Dims { nx: n, ny: n, nz };
+    let mut grid =
+        strata_grid::CornerPointGrid::from_arrays(dims, coord, zcorn, None).expect("a grid");
+    grid.set_property(
+        "PORO",
+        strata_grid::ndarray::Array3::from_shape_fn((nz, n, n), |(k, j, i)| poro(i, j, k)),
+    )
+    .expect("PORO");
+    let options = BuildOptions {
+        tile_cells: 8,
+        ..BuildOptions::default()
+    };
+    build_file(&grid, Some("PORO"), path, &options).expect("build");
+    let file = LodFile::open(path).expect("open");
+    (grid, file)
 }
