@@ -209,6 +209,13 @@ pub struct CornerPointGrid {
     pub units: Units,
     /// Per-cell static properties (PORO, PERMX, NTG, ...), keyword upper case.
     pub properties: BTreeMap<String, Array3<f32>>,
+    /// Code names of discrete properties, by property name: code -> name (a ROFF
+    /// facies' `1 -> "Channel"`), for a categorical legend. A property listed here is
+    /// discrete even when its map is empty; one not listed is continuous.
+    pub codes: BTreeMap<String, BTreeMap<i32, String>>,
+    /// One zone name per layer, top first, where the file divides layers into zones
+    /// (ROFF subgrids, named `subgrid_0`, ... as xtgeo names them); empty otherwise.
+    pub zones: Vec<String>,
     /// Report steps of a simulation, in file order.
     pub report_steps: Vec<ReportStep>,
     /// What a reader skipped and the user should know (a missing INCLUDE read with
@@ -277,6 +284,8 @@ impl CornerPointGrid {
             mapaxes: None,
             units: Units::default(),
             properties: BTreeMap::new(),
+            codes: BTreeMap::new(),
+            zones: Vec::new(),
             report_steps: Vec::new(),
             warnings: Vec::new(),
         })
