@@ -155,6 +155,12 @@ def ecl_entry(name: str, rel: str) -> dict:
     path = DATA / rel
     dims, corners, actnum = mr.resdata_corners_any(path)
     entry = {"file": rel, "reader": "resdata"}
+    # A GRID file may leave cells out; resdata gives those all-zero corners, which are
+    # not compared and are kept out of the quantization box.
+    unlisted = np.nonzero(~actnum & (corners == 0).all(axis=(1, 2)))[0]
+    if unlisted.size:
+        entry["unlisted_cells"] = unlisted.tolist()
+        corners[unlisted] = corners[np.nonzero(actnum)[0][0]]
     entry.update(geometry(name, corners, actnum, dims))
     if name in RESULTS:
         init, unrst = RESULTS[name]

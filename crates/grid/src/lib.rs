@@ -134,6 +134,8 @@ const SNIFF_BYTES: usize = 4096;
 pub enum Content {
     /// A Fortran unformatted record of an Eclipse keyword (EGRID, INIT, UNRST, ...).
     EclipseBinary,
+    /// A formatted (text) Eclipse file: FEGRID, FINIT, FUNRST, Fnnnn, formatted GRID.
+    EclipseText,
     /// A strata level-of-detail hierarchy.
     Hierarchy,
     /// A ROFF file (RMS, xtgeo), binary or ASCII.
@@ -167,6 +169,8 @@ impl Content {
             Content::EclipseBinary
         } else if let Some(zero_at) = bytes.iter().take(SNIFF_BYTES).position(|&b| b == 0) {
             Content::Binary { zero_at }
+        } else if eclbin::looks_formatted(bytes) {
+            Content::EclipseText
         } else {
             Content::Text
         }
@@ -187,6 +191,7 @@ impl Content {
     pub fn describe(self) -> String {
         match self {
             Content::EclipseBinary => "an Eclipse binary file (EGRID, INIT, UNRST ...)".into(),
+            Content::EclipseText => "a formatted Eclipse file (FEGRID, FINIT, FUNRST ...)".into(),
             Content::Roff(roff::Form::Binary) => "a binary ROFF file".into(),
             Content::Roff(roff::Form::Ascii) => "an ASCII ROFF file".into(),
             Content::Hierarchy => {
@@ -218,7 +223,9 @@ pub fn open_with(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> 
             ),
         }),
         (Content::Roff(_), _) => roff::read(path, options),
-        (Content::EclipseBinary, _) | (_, Format::Egrid) => eclbin::read_egrid(path, options),
+        (Content::EclipseBinary | Content::EclipseText, _) | (_, Format::Egrid) => {
+            eclbin::read_egrid(path, options)
+        }
         (Content::Binary { .. }, _) => Err(Error::Content {
             path: path.to_path_buf(),
             message: format!(

@@ -117,7 +117,18 @@ fn build(path: &Path, found: &Found<'_>) -> Result<CornerPointGrid> {
     let mut grid = CornerPointGrid::from_arrays(dims, coord, zcorn, actnum)
         .map_err(|e| zcorn_view.error(e.to_string()))?;
 
-    if let Some(view) = found.mapaxes {
+    map_and_units(path, &mut grid, found.mapaxes, found.gridunit)?;
+    Ok(grid)
+}
+
+/// Sets the grid's map axes and length unit from MAPAXES and GRIDUNIT, when present.
+pub(super) fn map_and_units(
+    path: &Path,
+    grid: &mut CornerPointGrid,
+    mapaxes: Option<RecordView<'_>>,
+    gridunit: Option<RecordView<'_>>,
+) -> Result<()> {
+    if let Some(view) = mapaxes {
         let v = view.to_f64()?;
         let values: [f64; 6] = v
             .as_slice()
@@ -128,7 +139,7 @@ fn build(path: &Path, found: &Found<'_>) -> Result<CornerPointGrid> {
         }
         grid.mapaxes = Some(MapAxes::from_values(values));
     }
-    if let Some(view) = found.gridunit {
+    if let Some(view) = gridunit {
         let unit = view.to_strings()?.into_iter().next().unwrap_or_default();
         match Units::parse(&unit) {
             Some(u) => grid.units = u,
@@ -138,7 +149,7 @@ fn build(path: &Path, found: &Found<'_>) -> Result<CornerPointGrid> {
             )),
         }
     }
-    Ok(grid)
+    Ok(())
 }
 
 /// Grid dimensions from GRIDHEAD (item 1 the grid type, 1 = corner point; items 2-4
