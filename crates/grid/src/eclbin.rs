@@ -72,6 +72,7 @@ impl Source {
 /// [`CornerPointGrid::warnings`] with the file, record and keyword.
 pub fn read_egrid(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> {
     let source = Source::open(path)?;
+    refuse_other_kinds(path, source.records())?;
     let mut grid = if gridfile::is_grid_file(source.records()) {
         gridfile::grid_from_records(path, source.records())?
     } else {
@@ -82,6 +83,41 @@ pub fn read_egrid(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid>
         load_results(&mut grid, path);
     }
     Ok(grid)
+}
+
+/// Names an Eclipse file that is not a grid by what its first keywords say it is:
+/// results, a summary, or an EGRID of local grids only.
+fn refuse_other_kinds(path: &Path, records: Records<'_>) -> Result<()> {
+    let mut names = Vec::new();
+    for view in records.take(16) {
+        let Ok(view) = view else { break };
+        names.push(view.name().to_string());
+    }
+    let has = |n: &str| names.iter().any(|m| m == n);
+    if let Some(g) = names.iter().position(|n| n == "GRIDHEAD" || n == "COORDS") {
+        if !names[..g].iter().any(|n| n == "LGR") {
+            return Ok(()); // a main grid comes first
+        }
+    }
+    let kind = match names.first().map(String::as_str) {
+        Some("SEQNUM") => "an Eclipse restart file (UNRST, Xnnnn): results, read beside its EGRID",
+        Some("INTEHEAD") if has("LOGIHEAD") => {
+            "an Eclipse INIT file: static results, read beside its EGRID"
+        }
+        Some("INTEHEAD") => "Eclipse results (INIT or restart), read beside their EGRID",
+        Some("DIMENS") if has("KEYWORDS") => {
+            "an Eclipse summary specification (SMSPEC), not a grid"
+        }
+        Some("SEQHDR" | "MINISTEP" | "PARAMS") => {
+            "Eclipse summary data (UNSMRY, Snnnn), not a grid"
+        }
+        _ if has("LGR") => "an EGRID of local grids (LGR) only, without a main grid: not read",
+        _ => return Ok(()),
+    };
+    Err(crate::Error::Content {
+        path: path.to_path_buf(),
+        message: kind.to_string(),
+    })
 }
 
 /// Reads an INIT file's static properties into `grid` (see [`parse_init_bytes`]),

@@ -464,3 +464,18 @@ fn intersect_results_are_mapped_through_pore_volume_and_said() {
     );
     assert_eq!(grid.report_steps.len(), 2, "{:?}", grid.warnings);
 }
+
+#[test]
+fn result_files_opened_as_grids_are_named() {
+    let Some(data) = data_dir() else { return };
+    for (file, kind) in [
+        ("eclipse_variants/IX_BO.INIT", "an Eclipse INIT file"),
+        ("eclipse_variants/E300_BO.UNRST", "an Eclipse restart file"),
+        ("eclipse_variants/E100_BO.FINIT", "an Eclipse INIT file"),
+    ] {
+        let err = strata_grid::open(&data.join(file))
+            .expect_err("not a grid")
+            .to_string();
+        assert!(err.contains(kind), "{file}: {err}");
+    }
+}

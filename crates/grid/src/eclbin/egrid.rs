@@ -17,7 +17,8 @@ struct Found<'a> {
     gridunit: Option<RecordView<'a>>,
 }
 
-/// Parses an EGRID held in memory; `path` names it in errors and warnings.
+/// Parses an EGRID, or a GRID file (see the `gridfile` module), held in memory;
+/// `path` names it in errors and warnings.
 ///
 /// Only the main grid is read: the keywords up to its ENDGRID (LGR ... ENDLGR blocks
 /// are skipped wherever they appear), and nothing after it, so NNC and LGR sections
@@ -29,6 +30,9 @@ pub fn parse_egrid_bytes(
     bytes: &[u8],
     options: &ReadOptions,
 ) -> Result<CornerPointGrid> {
+    if super::gridfile::is_grid_file(Records::new(path, bytes)) {
+        return super::gridfile::grid_from_records(path, Records::new(path, bytes));
+    }
     egrid_from_records(path, Records::new(path, bytes), options)
 }
 

@@ -12,11 +12,12 @@ use super::egrid::map_and_units;
 use super::record::{RecordView, Records};
 use crate::{CornerPointGrid, Dims, Error, Result};
 
-/// Whether the keywords are a GRID file's: DIMENS or COORDS before any GRIDHEAD.
+/// Whether the keywords are a GRID file's: COORDS before any GRIDHEAD (a summary
+/// specification has DIMENS too, but no COORDS).
 pub fn is_grid_file(records: Records<'_>) -> bool {
     for view in records.take(64) {
         match view.as_ref().map(RecordView::name) {
-            Ok("DIMENS" | "COORDS") => return true,
+            Ok("COORDS") => return true,
             Ok("GRIDHEAD") | Err(_) => return false,
             _ => {}
         }

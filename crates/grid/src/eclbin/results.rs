@@ -72,6 +72,16 @@ fn check_head(grid: &CornerPointGrid, path: &Path, head: &Head, nactive: usize) 
         .iter()
         .zip(head.dims)
         .all(|(&g, h)| usize::try_from(h) == Ok(g));
+    if same_dims_but_z(d, head.dims) {
+        return Err(Error::model(
+            path,
+            "INTEHEAD",
+            format!(
+                "a dual-porosity file ({} layers for the grid's {}: matrix then fracture), not read",
+                head.dims[2], d.nz
+            ),
+        ));
+    }
     if !same_dims || usize::try_from(head.nactive) != Ok(nactive) {
         let [x, y, z] = head.dims;
         return Err(Error::model(
@@ -84,6 +94,13 @@ fn check_head(grid: &CornerPointGrid, path: &Path, head: &Head, nactive: usize) 
         ));
     }
     Ok(())
+}
+
+/// Whether INTEHEAD has the grid's nx and ny and twice its nz: dual porosity.
+fn same_dims_but_z(d: crate::Dims, dims: [i32; 3]) -> bool {
+    usize::try_from(dims[0]) == Ok(d.nx)
+        && usize::try_from(dims[1]) == Ok(d.ny)
+        && usize::try_from(dims[2]) == Ok(2 * d.nz)
 }
 
 fn unit_system(units: Units) -> i32 {
