@@ -16,6 +16,7 @@
 mod ascii;
 mod binary;
 mod model;
+mod params;
 mod parse;
 pub mod tags;
 #[cfg(test)]
@@ -115,9 +116,9 @@ pub fn read_properties(grid: &mut CornerPointGrid, path: &Path) -> Result<Vec<St
         ));
     }
     let mut names = Vec::new();
-    for p in model::parameters(&place, &roff, d)? {
+    for p in params::parameters(&place, &roff, d)? {
         names.push(p.name.clone());
-        model::add(grid, p, path)?;
+        params::add(grid, p, path)?;
     }
     if names.is_empty() {
         return Err(Error::model(path, "parameter", "no parameter in the file"));
