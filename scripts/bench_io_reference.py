@@ -42,7 +42,9 @@ def resdata_loader():
         return None, f"resdata not importable ({e}): resdata_s is null"
 
     def load(path: Path):
-        if path.suffix.upper() == ".EGRID":
+        if path.suffix.upper().startswith(".ROFF"):
+            raise ValueError("resdata does not read ROFF")
+        if path.suffix.upper() in (".EGRID", ".FEGRID", ".GRID"):
             return Grid(str(path))
         return Grid.load_from_grdecl(str(path))
 
@@ -59,7 +61,8 @@ def xtgeo_loader():
     def load(path: Path):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            return xtgeo.grid_from_file(str(path))
+            roff = path.suffix.lower().startswith(".roff")
+            return xtgeo.grid_from_file(str(path), fformat="roff" if roff else None)
 
     return load, f"xtgeo {xtgeo.__version__}"
 

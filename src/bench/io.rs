@@ -19,8 +19,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde::{Deserialize, Serialize};
+use strata_grid::ReadOptions;
 use strata_grid::synth::{SynthParams, generate};
-use strata_grid::{Format, ReadOptions};
 
 /// Timed loads per file with our reader; the median is reported.
 const RUNS: usize = 5;
@@ -55,7 +55,7 @@ pub struct IoReport {
 pub struct FileTiming {
     /// Path relative to the data folder, or the generated file's name.
     pub file: String,
-    /// `grdecl` (text decks, `.DATA` included) or `egrid`.
+    /// `grdecl` (text decks, `.DATA` included), `egrid`, `fegrid`, `grid` or `roff`.
     pub format: &'static str,
     /// Size of the named file (INCLUDEd files not counted).
     pub bytes: u64,
@@ -141,13 +141,14 @@ pub fn run(data_dir: &Path) -> Result<IoReport> {
     Ok(IoReport { files, notes })
 }
 
-/// Generates the benchmark model and writes it as GRDECL and EGRID into `dir`.
+/// Generates the benchmark model and writes it as GRDECL, EGRID and binary ROFF into
+/// `dir`.
 fn synthetic_inputs(dir: &Path) -> Result<Vec<Input>> {
     let grid = generate(&SYNTH).context("generating the benchmark model")?;
     let SynthParams {
         nx, ny, nz, faults, ..
     } = SYNTH;
-    ["grdecl", "EGRID"]
+    ["grdecl", "EGRID", "roff"]
         .into_iter()
         .map(|ext| {
             let label = format!("synth-{nx}x{ny}x{nz}-f{faults}.{ext}");
@@ -159,7 +160,8 @@ fn synthetic_inputs(dir: &Path) -> Result<Vec<Input>> {
 }
 
 /// The files under `data_dir` (itself and its subfolders, sorted) whose extension names
-/// a grid format we read: `.egrid`, `.grdecl`, `.data`, any case. Property-only decks
+/// a grid format we read: `.egrid`, `.fegrid`, `.grid`, `.grdecl`, `.data`, `.roff`,
+/// `.roffbin`, `.roffasc`, any case. Property-only decks and ROFF parameter files
 /// among them are found out when read, and left out with a note.
 fn model_files(data_dir: &Path) -> Result<Vec<Input>> {
     let mut paths = Vec::new();
@@ -191,17 +193,28 @@ fn model_files(data_dir: &Path) -> Result<Vec<Input>> {
 /// Whether `path`'s extension names a grid format we read (any case).
 fn is_grid_file(path: &Path) -> bool {
     path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
-        ["egrid", "grdecl", "data"]
-            .iter()
-            .any(|g| e.eq_ignore_ascii_case(g))
+        [
+            "egrid", "fegrid", "grid", "grdecl", "data", "roff", "roffbin", "roffasc",
+        ]
+        .iter()
+        .any(|g| e.eq_ignore_ascii_case(g))
     })
 }
 
-/// The report's name of `path`'s format.
+/// The report's name of `path`'s format: `egrid`, `fegrid`, `grid`, `roff` (binary or
+/// ASCII) or `grdecl`.
 fn format_name(path: &Path) -> &'static str {
-    match Format::from_path(path) {
-        Format::Egrid => "egrid",
-        Format::Grdecl => "grdecl",
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match ext.as_str() {
+        "egrid" => "egrid",
+        "fegrid" => "fegrid",
+        "grid" => "grid",
+        e if e.starts_with("roff") => "roff",
+        _ => "grdecl",
     }
 }
 
@@ -368,6 +381,10 @@ mod tests {
         assert!(is_grid_file(Path::new("SPE10_MODEL2.DATA")));
         assert!(!is_grid_file(Path::new("E100_BO.UNRST")));
         assert!(!is_grid_file(Path::new("zones.lyr")));
+        assert!(is_grid_file(Path::new("reek_grd_w_props.roffasc")));
+        assert!(!is_grid_file(Path::new(
+            "reek2_grid_w_zerolayer.roff.invalid"
+        )));
     }
 
     /// A missing interpreter must give null times and a note, not an error.

@@ -22,7 +22,8 @@ pub mod view;
 /// How the commands that read a model read it.
 #[derive(Args)]
 pub struct ReadArgs {
-    /// GRDECL decks of per-cell properties to add (e.g. PORO beside an EGRID).
+    /// Per-cell properties to add: GRDECL decks (e.g. PORO beside an EGRID) or ROFF
+    /// parameter files (e.g. b_poro.roff beside b_grid.roff).
     #[arg(long = "props", value_name = "FILE")]
     pub props: Vec<PathBuf>,
     /// Read the grid only: no properties or results, and a deck goes on past INCLUDE

@@ -33,7 +33,7 @@ impl Model {
         };
         let mut grid = strata_grid::open_with(&source.path, &options)?;
         for deck in &source.props {
-            strata_grid::grdecl::read_properties(&mut grid, deck).with_context(|| {
+            strata_grid::read_properties(&mut grid, deck).with_context(|| {
                 format!(
                     "adding the properties of {} to {}",
                     deck.display(),

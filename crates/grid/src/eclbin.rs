@@ -12,7 +12,10 @@
 //! Fortran record where the problem was found. No count read from a file is used to
 //! allocate before it has been checked against the bytes that really follow.
 
+mod active;
 mod egrid;
+mod formatted;
+mod gridfile;
 mod record;
 mod results;
 #[cfg(test)]
@@ -22,6 +25,7 @@ mod writer;
 use std::path::{Path, PathBuf};
 
 pub use egrid::{parse_egrid_bytes, write_egrid};
+pub use formatted::{looks_formatted, to_binary as formatted_to_binary};
 pub use record::{
     EclFile, Record, RecordData, RecordKind, RecordView, Records, parse_records, read_records,
 };
@@ -30,47 +34,111 @@ pub use writer::RecordWriter;
 
 use crate::{CornerPointGrid, ReadOptions, Result};
 
-/// Reads an EGRID, and unless `options.grid_only` is set or `options.load_results`
-/// is not, the INIT and restart files beside it (see [`ResultFiles`]).
+/// The keywords of an Eclipse file: binary ones mapped, formatted ones converted to
+/// binary records in memory (see [`formatted_to_binary`]). Which is told by content.
+enum Source {
+    Mapped(EclFile),
+    Converted(PathBuf, Vec<u8>),
+}
+
+impl Source {
+    fn open(path: &Path) -> Result<Source> {
+        let head = crate::Content::of_file(path)?;
+        if head == crate::Content::EclipseText {
+            Ok(Source::Converted(
+                path.to_path_buf(),
+                formatted::read(path)?,
+            ))
+        } else {
+            EclFile::open(path).map(Source::Mapped)
+        }
+    }
+
+    fn records(&self) -> Records<'_> {
+        match self {
+            Source::Mapped(f) => f.records(),
+            Source::Converted(path, bytes) => Records::new(path, bytes),
+        }
+    }
+}
+
+/// Reads an EGRID or a GRID file (per-cell corners, see [`gridfile`]), binary or
+/// formatted, and unless `options.grid_only` is set or `options.load_results` is not,
+/// the INIT and restart files beside it (see [`ResultFiles`]).
 ///
 /// A result file that fails to read does not fail the grid: the geometry is what was
 /// asked for, and a simulation killed mid-write leaves a truncated UNRST behind that
 /// should not hide its grid. The failure is listed in
 /// [`CornerPointGrid::warnings`] with the file, record and keyword.
 pub fn read_egrid(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> {
-    let file = EclFile::open(path)?;
-    let mut grid = egrid::egrid_from_records(path, file.records(), options)?;
-    drop(file);
+    let source = Source::open(path)?;
+    refuse_other_kinds(path, source.records())?;
+    let mut grid = if gridfile::is_grid_file(source.records()) {
+        gridfile::grid_from_records(path, source.records())?
+    } else {
+        egrid::egrid_from_records(path, source.records(), options)?
+    };
+    drop(source);
     if options.load_results && !options.grid_only {
         load_results(&mut grid, path);
     }
     Ok(grid)
 }
 
-/// Reads an INIT file's static properties into `grid` (see [`parse_init_bytes`]).
+/// Names an Eclipse file that is not a grid by what its first keywords say it is:
+/// results, a summary, or an EGRID of local grids only.
+fn refuse_other_kinds(path: &Path, records: Records<'_>) -> Result<()> {
+    let mut names = Vec::new();
+    for view in records.take(16) {
+        let Ok(view) = view else { break };
+        names.push(view.name().to_string());
+    }
+    let has = |n: &str| names.iter().any(|m| m == n);
+    if let Some(g) = names.iter().position(|n| n == "GRIDHEAD" || n == "COORDS") {
+        if !names[..g].iter().any(|n| n == "LGR") {
+            return Ok(()); // a main grid comes first
+        }
+    }
+    let kind = match names.first().map(String::as_str) {
+        Some("SEQNUM") => "an Eclipse restart file (UNRST, Xnnnn): results, read beside its EGRID",
+        Some("INTEHEAD") if has("LOGIHEAD") => {
+            "an Eclipse INIT file: static results, read beside its EGRID"
+        }
+        Some("INTEHEAD") => "Eclipse results (INIT or restart), read beside their EGRID",
+        Some("DIMENS") if has("KEYWORDS") => {
+            "an Eclipse summary specification (SMSPEC), not a grid"
+        }
+        Some("SEQHDR" | "MINISTEP" | "PARAMS") => {
+            "Eclipse summary data (UNSMRY, Snnnn), not a grid"
+        }
+        _ if has("LGR") => "an EGRID of local grids (LGR) only, without a main grid: not read",
+        _ => return Ok(()),
+    };
+    Err(crate::Error::Content {
+        path: path.to_path_buf(),
+        message: kind.to_string(),
+    })
+}
+
+/// Reads an INIT file's static properties into `grid` (see [`parse_init_bytes`]),
+/// binary or formatted (FINIT).
 pub fn read_init(grid: &mut CornerPointGrid, path: &Path) -> Result<()> {
-    let file = EclFile::open(path)?;
-    results::init_from_records(grid, path, file.records())
+    let source = Source::open(path)?;
+    results::init_from_records(grid, path, source.records())
 }
 
 /// Appends the report steps of a restart file to `grid`: a unified `.UNRST`, or one
-/// non-unified binary `.Xnnnn` (numbered by its extension when it has no SEQNUM).
-/// Formatted files (`.FUNRST`, `.Fnnnn`) are refused.
+/// non-unified `.Xnnnn` (numbered by its extension when it has no SEQNUM), binary or
+/// formatted (`.FUNRST`, `.Fnnnn`).
 pub fn read_restart(grid: &mut CornerPointGrid, path: &Path) -> Result<()> {
-    if results::is_formatted(path) {
-        return Err(crate::Error::model(
-            path,
-            "",
-            "formatted (text) restart files are not read; ask the simulator for binary output",
-        ));
-    }
-    let file = EclFile::open(path)?;
-    results::restart_from_records(grid, path, file.records())
+    let source = Source::open(path)?;
+    results::restart_from_records(grid, path, source.records())
 }
 
 /// The result files that belong to an EGRID: same directory and base name, extension
 /// matched without regard to case (`E100_BO.EGRID` -> `E100_BO.INIT`, `E100_BO.UNRST`,
-/// `E100_BO.X0001`, ...).
+/// `E100_BO.X0001`, ...). Formatted ones (`FINIT`, `FUNRST`, `Fnnnn`) are taken where
+/// no binary one of the kind is there.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ResultFiles {
     /// The INIT file (static properties over active cells), when there is one.
@@ -79,8 +147,6 @@ pub struct ResultFiles {
     pub unrst: Option<PathBuf>,
     /// Non-unified restarts `.Xnnnn`, by report number.
     pub restarts: Vec<(i32, PathBuf)>,
-    /// Formatted result files found, which are not read.
-    pub formatted: Vec<PathBuf>,
 }
 
 impl ResultFiles {
@@ -92,6 +158,7 @@ impl ResultFiles {
         };
         let stem = egrid.file_stem();
         let mut found = ResultFiles::default();
+        let mut formatted = (None, None, Vec::new());
         for entry in std::fs::read_dir(dir)? {
             let path = entry?.path();
             if path.file_stem() != stem {
@@ -100,18 +167,25 @@ impl ResultFiles {
             let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
                 continue;
             };
-            if ext.eq_ignore_ascii_case("INIT") {
-                found.init = Some(path);
-            } else if ext.eq_ignore_ascii_case("UNRST") {
-                found.unrst = Some(path);
-            } else if let Some(n) = results::xnnnn_number(&path) {
-                found.restarts.push((n, path));
-            } else if results::is_formatted(&path) {
-                found.formatted.push(path);
+            let ext = ext.to_ascii_uppercase();
+            match ext.as_str() {
+                "INIT" => found.init = Some(path),
+                "FINIT" => formatted.0 = Some(path),
+                "UNRST" => found.unrst = Some(path),
+                "FUNRST" => formatted.1 = Some(path),
+                _ => match results::xnnnn_number(&path) {
+                    Some(n) if ext.starts_with('X') => found.restarts.push((n, path)),
+                    Some(n) => formatted.2.push((n, path)),
+                    None => {}
+                },
             }
         }
+        found.init = found.init.or(formatted.0);
+        found.unrst = found.unrst.or(formatted.1);
+        if found.restarts.is_empty() {
+            found.restarts = formatted.2;
+        }
         found.restarts.sort();
-        found.formatted.sort();
         Ok(found)
     }
 }
@@ -146,9 +220,5 @@ fn load_results(grid: &mut CornerPointGrid, egrid: &Path) {
             let r = read_restart(grid, x);
             warn(grid, r);
         }
-    }
-    for f in &files.formatted {
-        grid.warnings
-            .push(format!("{}: formatted result file not read", f.display()));
     }
 }

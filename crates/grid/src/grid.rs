@@ -183,6 +183,26 @@ pub struct ReportStep {
     pub arrays: BTreeMap<String, Array3<f32>>,
 }
 
+/// Spreads `values` over the cells `mask` holds, NaN elsewhere; `None` unless there is
+/// exactly one value per such cell.
+pub(crate) fn expand_over(mask: &Array3<bool>, values: &[f32]) -> Option<Array3<f32>> {
+    let mut it = values.iter();
+    let full: Vec<f32> = mask
+        .iter()
+        .map(|&a| {
+            if a {
+                it.next().copied()
+            } else {
+                Some(f32::NAN)
+            }
+        })
+        .collect::<Option<_>>()?;
+    if it.next().is_some() {
+        return None;
+    }
+    Array3::from_shape_vec(mask.raw_dim(), full).ok()
+}
+
 /// A corner-point grid with its properties.
 ///
 /// Arrays use `ndarray` in file order (`i` fastest, so the last axis is `i`):
@@ -209,6 +229,17 @@ pub struct CornerPointGrid {
     pub units: Units,
     /// Per-cell static properties (PORO, PERMX, NTG, ...), keyword upper case.
     pub properties: BTreeMap<String, Array3<f32>>,
+    /// Code names of discrete properties, by property name: code -> name (a ROFF
+    /// facies' `1 -> "Channel"`), for a categorical legend. A property listed here is
+    /// discrete even when its map is empty; one not listed is continuous.
+    pub codes: BTreeMap<String, BTreeMap<i32, String>>,
+    /// One zone name per layer, top first, where the file divides layers into zones
+    /// (ROFF subgrids, named `subgrid_0`, ... as xtgeo names them); empty otherwise.
+    pub zones: Vec<String>,
+    /// The cells INIT and restart arrays hold values for, where that is not ACTNUM:
+    /// Intersect leaves out active cells without pore volume, and its results are
+    /// mapped through PORV > 0 as xtgeo maps them. `None`: the active cells.
+    pub result_cells: Option<Array3<bool>>,
     /// Report steps of a simulation, in file order.
     pub report_steps: Vec<ReportStep>,
     /// What a reader skipped and the user should know (a missing INCLUDE read with
@@ -277,6 +308,9 @@ impl CornerPointGrid {
             mapaxes: None,
             units: Units::default(),
             properties: BTreeMap::new(),
+            codes: BTreeMap::new(),
+            zones: Vec::new(),
+            result_cells: None,
             report_steps: Vec::new(),
             warnings: Vec::new(),
         })
@@ -332,23 +366,15 @@ impl CornerPointGrid {
     /// Spreads an array over active cells onto all cells, NaN for inactive ones.
     /// Returns `None` when `values` does not hold exactly one value per active cell.
     pub fn expand_active(&self, values: &[f32]) -> Option<Array3<f32>> {
-        let mut it = values.iter();
-        let full: Vec<f32> = self
-            .actnum
-            .iter()
-            .map(|&a| {
-                if a {
-                    it.next().copied()
-                } else {
-                    Some(f32::NAN)
-                }
-            })
-            .collect::<Option<_>>()?;
-        if it.next().is_some() {
-            return None;
+        expand_over(&self.actnum, values)
+    }
+
+    /// The number of cells result arrays hold values for ([`Self::result_cells`]).
+    pub fn result_count(&self) -> usize {
+        match &self.result_cells {
+            Some(cells) => cells.iter().filter(|&&c| c).count(),
+            None => self.active_count(),
         }
-        let Dims { nx, ny, nz } = self.dims;
-        Array3::from_shape_vec((nz, ny, nx), full).ok()
     }
 
     /// Pillar `(pi, pj)` (0..=nx, 0..=ny) as top and bottom points, local coordinates.

@@ -58,6 +58,7 @@ pub mod grdecl;
 mod grid;
 mod mesh;
 mod pages;
+pub mod roff;
 pub mod surface;
 pub mod synth;
 pub mod terrain;
@@ -106,6 +107,8 @@ pub enum Format {
     Grdecl,
     /// Eclipse binary grid: `.EGRID`.
     Egrid,
+    /// ROFF binary grid: `.roff`, `.roffbin` (`.roffasc` is read, never written).
+    Roff,
 }
 
 impl Format {
@@ -113,6 +116,7 @@ impl Format {
     pub fn from_path(path: &Path) -> Format {
         match path.extension().and_then(|e| e.to_str()) {
             Some(e) if e.eq_ignore_ascii_case("egrid") => Format::Egrid,
+            Some(e) if e.to_ascii_lowercase().starts_with("roff") => Format::Roff,
             _ => Format::Grdecl,
         }
     }
@@ -130,8 +134,12 @@ const SNIFF_BYTES: usize = 4096;
 pub enum Content {
     /// A Fortran unformatted record of an Eclipse keyword (EGRID, INIT, UNRST, ...).
     EclipseBinary,
+    /// A formatted (text) Eclipse file: FEGRID, FINIT, FUNRST, Fnnnn, formatted GRID.
+    EclipseText,
     /// A strata level-of-detail hierarchy.
     Hierarchy,
+    /// A ROFF file (RMS, xtgeo), binary or ASCII.
+    Roff(roff::Form),
     /// Other binary data.
     Binary {
         /// Offset of the first zero byte, which no text deck has: shown in messages
@@ -147,6 +155,8 @@ impl Content {
     pub fn of(bytes: &[u8]) -> Content {
         if bytes.starts_with(&HIERARCHY_MAGIC) {
             Content::Hierarchy
+        } else if let Some(form) = roff::form_of(bytes) {
+            Content::Roff(form)
         } else if bytes.len() >= 24
             && bytes[..4] == 16u32.to_be_bytes()
             && bytes[4..12]
@@ -159,6 +169,8 @@ impl Content {
             Content::EclipseBinary
         } else if let Some(zero_at) = bytes.iter().take(SNIFF_BYTES).position(|&b| b == 0) {
             Content::Binary { zero_at }
+        } else if eclbin::looks_formatted(bytes) {
+            Content::EclipseText
         } else {
             Content::Text
         }
@@ -179,6 +191,9 @@ impl Content {
     pub fn describe(self) -> String {
         match self {
             Content::EclipseBinary => "an Eclipse binary file (EGRID, INIT, UNRST ...)".into(),
+            Content::EclipseText => "a formatted Eclipse file (FEGRID, FINIT, FUNRST ...)".into(),
+            Content::Roff(roff::Form::Binary) => "a binary ROFF file".into(),
+            Content::Roff(roff::Form::Ascii) => "an ASCII ROFF file".into(),
             Content::Hierarchy => {
                 "a strata level-of-detail hierarchy (written by `strata lod build`)".into()
             }
@@ -207,7 +222,10 @@ pub fn open_with(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> 
                 content.describe()
             ),
         }),
-        (Content::EclipseBinary, _) | (_, Format::Egrid) => eclbin::read_egrid(path, options),
+        (Content::Roff(_), _) => roff::read(path, options),
+        (Content::EclipseBinary | Content::EclipseText, _) | (_, Format::Egrid) => {
+            eclbin::read_egrid(path, options)
+        }
         (Content::Binary { .. }, _) => Err(Error::Content {
             path: path.to_path_buf(),
             message: format!(
@@ -215,7 +233,7 @@ pub fn open_with(path: &Path, options: &ReadOptions) -> Result<CornerPointGrid> 
                 content.describe()
             ),
         }),
-        (Content::Text, Format::Grdecl) => grdecl::read(path, options),
+        (Content::Text, Format::Grdecl | Format::Roff) => grdecl::read(path, options),
     }
 }
 
@@ -224,5 +242,15 @@ pub fn save(grid: &CornerPointGrid, path: &Path) -> Result<()> {
     match Format::from_path(path) {
         Format::Egrid => eclbin::write_egrid(grid, path),
         Format::Grdecl => grdecl::write(grid, path),
+        Format::Roff => roff::write(grid, path),
+    }
+}
+
+/// Adds the per-cell properties of `path` to `grid`: a ROFF parameter (or grid) file,
+/// else a GRDECL property deck. Returns the names added.
+pub fn read_properties(grid: &mut CornerPointGrid, path: &Path) -> Result<Vec<String>> {
+    match Content::of_file(path)? {
+        Content::Roff(_) => roff::read_properties(grid, path),
+        _ => grdecl::read_properties(grid, path),
     }
 }

@@ -17,7 +17,8 @@ struct Found<'a> {
     gridunit: Option<RecordView<'a>>,
 }
 
-/// Parses an EGRID held in memory; `path` names it in errors and warnings.
+/// Parses an EGRID, or a GRID file (see the `gridfile` module), held in memory;
+/// `path` names it in errors and warnings.
 ///
 /// Only the main grid is read: the keywords up to its ENDGRID (LGR ... ENDLGR blocks
 /// are skipped wherever they appear), and nothing after it, so NNC and LGR sections
@@ -29,6 +30,9 @@ pub fn parse_egrid_bytes(
     bytes: &[u8],
     options: &ReadOptions,
 ) -> Result<CornerPointGrid> {
+    if super::gridfile::is_grid_file(Records::new(path, bytes)) {
+        return super::gridfile::grid_from_records(path, Records::new(path, bytes));
+    }
     egrid_from_records(path, Records::new(path, bytes), options)
 }
 
@@ -117,7 +121,18 @@ fn build(path: &Path, found: &Found<'_>) -> Result<CornerPointGrid> {
     let mut grid = CornerPointGrid::from_arrays(dims, coord, zcorn, actnum)
         .map_err(|e| zcorn_view.error(e.to_string()))?;
 
-    if let Some(view) = found.mapaxes {
+    map_and_units(path, &mut grid, found.mapaxes, found.gridunit)?;
+    Ok(grid)
+}
+
+/// Sets the grid's map axes and length unit from MAPAXES and GRIDUNIT, when present.
+pub(super) fn map_and_units(
+    path: &Path,
+    grid: &mut CornerPointGrid,
+    mapaxes: Option<RecordView<'_>>,
+    gridunit: Option<RecordView<'_>>,
+) -> Result<()> {
+    if let Some(view) = mapaxes {
         let v = view.to_f64()?;
         let values: [f64; 6] = v
             .as_slice()
@@ -128,7 +143,7 @@ fn build(path: &Path, found: &Found<'_>) -> Result<CornerPointGrid> {
         }
         grid.mapaxes = Some(MapAxes::from_values(values));
     }
-    if let Some(view) = found.gridunit {
+    if let Some(view) = gridunit {
         let unit = view.to_strings()?.into_iter().next().unwrap_or_default();
         match Units::parse(&unit) {
             Some(u) => grid.units = u,
@@ -138,7 +153,7 @@ fn build(path: &Path, found: &Found<'_>) -> Result<CornerPointGrid> {
             )),
         }
     }
-    Ok(grid)
+    Ok(())
 }
 
 /// Grid dimensions from GRIDHEAD (item 1 the grid type, 1 = corner point; items 2-4

@@ -66,13 +66,22 @@ fn read_head(view: &RecordView<'_>) -> Result<Head> {
 }
 
 /// Refuses a file written for another grid: its arrays would map onto the wrong cells.
-fn check_head(grid: &CornerPointGrid, path: &Path, head: &Head) -> Result<()> {
+fn check_head(grid: &CornerPointGrid, path: &Path, head: &Head, nactive: usize) -> Result<()> {
     let d = grid.dims();
     let same_dims = [d.nx, d.ny, d.nz]
         .iter()
         .zip(head.dims)
         .all(|(&g, h)| usize::try_from(h) == Ok(g));
-    let nactive = grid.active_count();
+    if same_dims_but_z(d, head.dims) {
+        return Err(Error::model(
+            path,
+            "INTEHEAD",
+            format!(
+                "a dual-porosity file ({} layers for the grid's {}: matrix then fracture), not read",
+                head.dims[2], d.nz
+            ),
+        ));
+    }
     if !same_dims || usize::try_from(head.nactive) != Ok(nactive) {
         let [x, y, z] = head.dims;
         return Err(Error::model(
@@ -85,6 +94,13 @@ fn check_head(grid: &CornerPointGrid, path: &Path, head: &Head) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Whether INTEHEAD has the grid's nx and ny and twice its nz: dual porosity.
+fn same_dims_but_z(d: crate::Dims, dims: [i32; 3]) -> bool {
+    usize::try_from(dims[0]) == Ok(d.nx)
+        && usize::try_from(dims[1]) == Ok(d.ny)
+        && usize::try_from(dims[2]) == Ok(2 * d.nz)
 }
 
 fn unit_system(units: Units) -> i32 {
@@ -104,10 +120,10 @@ fn is_cell_array(view: &RecordView<'_>, nactive: usize, kinds: &[RecordKind]) ->
         && !NOT_CELL_ARRAYS.contains(&view.name())
 }
 
-/// Spreads an active-cell array onto all cells (inactive = NaN).
-fn expand(grid: &CornerPointGrid, view: &RecordView<'_>) -> Result<Array3<f32>> {
+/// Spreads a result array over `cells` onto all cells (NaN elsewhere).
+fn expand(cells: &Array3<bool>, view: &RecordView<'_>) -> Result<Array3<f32>> {
     let values = view.to_f32()?;
-    grid.expand_active(&values)
+    crate::grid::expand_over(cells, &values)
         .ok_or_else(|| view.error("does not hold one value per active cell"))
 }
 
@@ -143,10 +159,10 @@ pub(crate) fn init_from_records(
     records: Records<'_>,
 ) -> Result<()> {
     let ncells = grid.cell_count();
-    let nactive = grid.active_count();
     let numeric = [RecordKind::Inte, RecordKind::Real, RecordKind::Doub];
     let mut head = None;
-    let mut props = Vec::new();
+    let mut porv = None;
+    let mut arrays = Vec::new();
     let mut lgr = LgrSkip::default();
     for view in records {
         let view = view?;
@@ -154,30 +170,47 @@ pub(crate) fn init_from_records(
             continue;
         }
         match view.name() {
-            "INTEHEAD" if head.is_none() => {
-                let h = read_head(&view)?;
-                check_head(grid, path, &h)?;
-                head = Some(h);
-            }
+            "INTEHEAD" if head.is_none() => head = Some(read_head(&view)?),
             "PORV" if view.len() == ncells && numeric.contains(&view.kind()) => {
-                let d = grid.dims();
-                let porv = Array3::from_shape_vec((d.nz, d.ny, d.nx), view.to_f32()?)
-                    .map_err(|e| view.error(e.to_string()))?;
-                props.push(("PORV".to_string(), porv));
+                porv = Some(view);
             }
-            name if is_cell_array(&view, nactive, &numeric) => {
-                props.push((name.to_string(), expand(grid, &view)?));
+            name if numeric.contains(&view.kind()) && !NOT_CELL_ARRAYS.contains(&name) => {
+                arrays.push(view);
             }
             _ => {}
         }
     }
-    let head = head.ok_or_else(|| {
-        Error::model(
+    let Some(head) = head else {
+        return Err(Error::model(
             path,
             "INTEHEAD",
             "no INTEHEAD, so nothing says which grid the arrays belong to",
-        )
-    })?;
+        ));
+    };
+    // On a first INIT whose active count differs from ACTNUM, map through PORV.
+    let mapped = match grid.result_cells {
+        None => super::active::result_cells(grid, head.nactive, porv.as_ref())?,
+        Some(_) => None,
+    };
+    let cells = mapped
+        .as_ref()
+        .or(grid.result_cells.as_ref())
+        .unwrap_or(&grid.actnum);
+    let nres = cells.iter().filter(|&&c| c).count();
+    check_head(grid, path, &head, nres)?;
+    let mut props = Vec::new();
+    if let Some(view) = porv {
+        let d = grid.dims();
+        let values = Array3::from_shape_vec((d.nz, d.ny, d.nx), view.to_f32()?)
+            .map_err(|e| view.error(e.to_string()))?;
+        props.push(("PORV".to_string(), values));
+    }
+    for view in arrays
+        .iter()
+        .filter(|v| nres > 0 && v.len() == nres && v.name() != "PORV")
+    {
+        props.push((view.name().to_string(), expand(cells, view)?));
+    }
     if head.units != unit_system(grid.units) {
         grid.warnings.push(format!(
             "{}: INTEHEAD unit system {} differs from the grid's {}; coordinates keep the grid's",
@@ -188,6 +221,11 @@ pub(crate) fn init_from_records(
     }
     for (name, values) in props {
         grid.set_property(&name, values)?;
+    }
+    if let Some(cells) = mapped {
+        grid.warnings
+            .push(super::active::mapped_warning(grid, path, &cells));
+        grid.result_cells = Some(cells);
     }
     Ok(())
 }
@@ -202,7 +240,7 @@ fn restart_steps(
     records: Records<'_>,
     fallback: Option<i32>,
 ) -> Result<Vec<ReportStep>> {
-    let nactive = grid.active_count();
+    let nactive = grid.result_count();
     let solution = [RecordKind::Real, RecordKind::Doub];
     let mut steps: Vec<ReportStep> = Vec::new();
     let mut current: Option<ReportStep> = None;
@@ -230,11 +268,11 @@ fn restart_steps(
             }
             "INTEHEAD" => {
                 let h = read_head(&view)?;
-                check_head(grid, path, &h)?;
+                check_head(grid, path, &h, nactive)?;
                 current.get_or_insert_with(|| implicit(&steps)).date = h.date;
             }
             name if is_cell_array(&view, nactive, &solution) => {
-                let values = expand(grid, &view)?;
+                let values = expand(grid.result_cells.as_ref().unwrap_or(&grid.actnum), &view)?;
                 current
                     .get_or_insert_with(|| implicit(&steps))
                     .arrays
@@ -251,24 +289,10 @@ fn restart_steps(
 /// `None` when the extension is not `Xnnnn`.
 pub(crate) fn xnnnn_number(path: &Path) -> Option<i32> {
     let ext = path.extension()?.to_str()?;
-    let digits = ext.strip_prefix(['X', 'x'])?;
+    let digits = ext.strip_prefix(['X', 'x', 'F', 'f'])?;
     (digits.len() == 4 && digits.bytes().all(|b| b.is_ascii_digit()))
         .then(|| digits.parse().ok())
         .flatten()
-}
-
-/// Whether the extension names a formatted (text) result file: `Fnnnn`, `FUNRST`,
-/// `FINIT`. Those are not read.
-pub(crate) fn is_formatted(path: &Path) -> bool {
-    let Some(ext) = path.extension().and_then(|e| e.to_str()) else {
-        return false;
-    };
-    let upper = ext.to_ascii_uppercase();
-    upper == "FUNRST"
-        || upper == "FINIT"
-        || (upper.len() == 5
-            && upper.starts_with('F')
-            && upper[1..].bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// Appends the report steps of a restart file held in memory to `grid`. `path` names
