@@ -28,14 +28,14 @@ fn ok(out: &Output, what: &str) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned() + &err
 }
 
-/// (model, property files, property to colour by)
-const CASES: &[(&str, &[&str], &str)] = &[
-    ("roff/b_grid.roff", &["roff/b_poro.roff"], "PORO"),
-    ("roff/reek_grd_w_props.roffasc", &[], "PORO"),
-    ("roff/emerald_bigend.roffbin", &[], "LAYER"),
-    ("eclipse_variants/E100_BO.FEGRID", &[], "PORO"),
-    ("eclipse_variants/B.GRID", &[], "DEPTH"),
-    ("eclipse_variants/IX_BO.EGRID", &[], "PORO"),
+/// (model, property files, property to colour by; none: the GRID file has none)
+const CASES: &[(&str, &[&str], Option<&str>)] = &[
+    ("roff/b_grid.roff", &["roff/b_poro.roff"], Some("PORO")),
+    ("roff/reek_grd_w_props.roffasc", &[], Some("PORO")),
+    ("roff/emerald_bigend.roffbin", &[], Some("LAYER")),
+    ("eclipse_variants/E100_BO.FEGRID", &[], Some("PORO")),
+    ("eclipse_variants/B.GRID", &[], None),
+    ("eclipse_variants/IX_BO.EGRID", &[], Some("PORO")),
 ];
 
 #[test]
@@ -58,22 +58,21 @@ fn render_and_lod_build_take_every_format() {
             "-o",
             png.to_str().expect("UTF-8"),
         ];
-        args.extend(["--property", property]);
+        match property {
+            Some(property) => args.extend(["--property", property]),
+            None => {}
+        }
         props
             .iter()
             .for_each(|p| args.extend(["--props", p.as_str()]));
         ok(&strata(&args), &format!("render {model}"));
         assert!(png.is_file(), "{model}: no picture");
         let lod = dir.path().join("out.lod");
-        let mut args = vec![
-            "lod",
-            "build",
-            path,
-            "-o",
-            lod.to_str().expect("UTF-8"),
-            "--property",
-            property,
-        ];
+        let mut args = vec!["lod", "build", path, "-o", lod.to_str().expect("UTF-8")];
+        match property {
+            Some(property) => args.extend(["--property", property]),
+            None => args.push("--no-property"),
+        }
         props
             .iter()
             .for_each(|p| args.extend(["--props", p.as_str()]));
