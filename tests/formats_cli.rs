@@ -58,9 +58,8 @@ fn render_and_lod_build_take_every_format() {
             "-o",
             png.to_str().expect("UTF-8"),
         ];
-        match property {
-            Some(property) => args.extend(["--property", property]),
-            None => {}
+        if let Some(property) = property {
+            args.extend(["--property", property]);
         }
         props
             .iter()
