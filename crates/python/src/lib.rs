@@ -12,6 +12,7 @@ mod engine;
 mod errors;
 mod grid;
 mod lod;
+mod view;
 
 /// The native module.
 #[pymodule]
@@ -23,5 +24,6 @@ fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(engine::check_scene, m)?)?;
     m.add_function(wrap_pyfunction!(engine::png, m)?)?;
     m.add_function(wrap_pyfunction!(lod::lod_build, m)?)?;
+    m.add_function(wrap_pyfunction!(view::view, m)?)?;
     Ok(())
 }

@@ -54,6 +54,7 @@ __all__ = [
     "render",
     "render_ensemble",
     "synth",
+    "view",
 ]
 
 PathLike = Union[str, "_os.PathLike[str]"]
@@ -429,6 +430,39 @@ def render(what: Union[Grid, PathLike, None] = None, scene: Optional[Scene] = No
         if kind == "warning":
             _warnings.warn(text, StrataWarning, stacklevel=2)
     return Picture(pixels, notes)
+
+
+def view(what: Union[Grid, PathLike, None] = None, scene: Optional[Scene] = None, *,
+         script: Optional[PathLike] = None, size: tuple[int, int] = (1280, 800),
+         **fields) -> dict:
+    """Opens the interactive window (``strata view``) on ``what`` as ``scene`` says,
+    with ``fields`` changed, and blocks until it is closed (or ``script`` ends: the
+    commands of ``strata view --script``).
+
+    ``what``: a :class:`Grid` (one made in memory is written to a temporary GRDECL
+    deck first), a model file, a ``.lod`` hierarchy, or None for the scene's own model.
+    Needs a display (X11 or Wayland); one window per process. Returns the frame
+    statistics: ``frames``, ``median_ms``, ``worst_ms``.
+    """
+    temporary = None
+    try:
+        if isinstance(what, Grid):
+            if not _os.path.isfile(what.path):
+                import tempfile
+
+                temporary = tempfile.TemporaryDirectory()
+                deck = _os.path.join(temporary.name, "grid.grdecl")
+                what.save(deck)
+                what = deck
+            else:
+                what = what.path
+        scene, _ = _scene_for(what, scene, fields)
+        script = _os.fspath(script) if script is not None else None
+        frames, median, worst = _strata.view(scene.to_json(), script, tuple(size))
+        return {"frames": frames, "median_ms": median, "worst_ms": worst}
+    finally:
+        if temporary is not None:
+            temporary.cleanup()
 
 
 def _render_in_worker(path: str, scene_json: str) -> tuple[np.ndarray, list]:
