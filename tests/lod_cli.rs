@@ -865,7 +865,14 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
         assert!(with <= allowed, "{with} pixels differ from render --sides");
     }
     // A layer range: those layers' sides only, as `render --layers` draws them.
-    let range = ["--sides", "--layers", "3..5", "--no-legend", "--fault-thickness", "0"];
+    let range = [
+        "--sides",
+        "--layers",
+        "3..5",
+        "--no-legend",
+        "--fault-thickness",
+        "0",
+    ];
     let range_full = [&range[..], &full[..]].concat();
     let (printed, viewed) = view_lod(lod_s, &png("range"), "400x300", &range_full);
     render_sample(&png("render_range"), "400x300", &range);
