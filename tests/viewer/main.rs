@@ -229,6 +229,7 @@ fn on_a_flat_model_from_above_lines_measure_their_thickness_and_isolines_sit_on_
     let script = "set colour.solid true\n\
                   set camera {\"azimuth\":0,\"elevation\":90,\"distance\":1,\"z_scale\":1}\n\
                   set wire.color \"#000000\"\n\
+                  set wire.major_color \"#000000\"\n\
                   set wire.thickness 1\nscreenshot w1.png\n\
                   set wire.thickness 2\nscreenshot w2.png\n\
                   set wire.thickness 3\nscreenshot w3.png\n\
