@@ -57,6 +57,17 @@ fn view(dir: &Path, args: &[&str], script: &str, xshot: Option<(&str, &str)>) ->
     read("out.txt")
 }
 
+/// The line a script's `pick` printed (`{"pick": ...}`) among the viewer's output.
+fn printed_pick(out: &str) -> Value {
+    out.lines()
+        .find_map(|l| {
+            serde_json::from_str::<Value>(l)
+                .ok()
+                .filter(|v| v.get("pick").is_some())
+        })
+        .unwrap_or_else(|| panic!("no pick printed: {out}"))
+}
+
 fn open(path: &Path) -> RgbaImage {
     image::open(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -111,14 +122,7 @@ fn the_window_orbits_edits_picks_and_shows_what_it_captures() {
         Some(("app.png", "x.xwd")),
     );
     // The pick names a cell of the layers shown, with the values `info --cell` gives.
-    let pick: Value = out
-        .lines()
-        .find_map(|l| {
-            serde_json::from_str::<Value>(l)
-                .ok()
-                .filter(|v| v.get("pick").is_some())
-        })
-        .unwrap_or_else(|| panic!("no pick printed: {out}"));
+    let pick = printed_pick(&out);
     let cell = &pick["pick"]["cell"];
     let ijk: Vec<u64> = cell["cell"]
         .as_array()
@@ -368,14 +372,7 @@ fn a_large_model_opens_on_a_preview_while_its_hierarchy_is_built() {
         last.contains("wireframe"),
         "the last frame drew {last:?}, not the hierarchy"
     );
-    let pick: Value = out
-        .lines()
-        .find_map(|l| {
-            serde_json::from_str::<Value>(l)
-                .ok()
-                .filter(|v| v.get("pick").is_some())
-        })
-        .unwrap_or_else(|| panic!("no pick printed: {out}"));
+    let pick = printed_pick(&out);
     assert!(
         pick["pick"]["ijk"].is_array(),
         "no cell picked in the hierarchy: {pick}"
