@@ -49,6 +49,8 @@ pub struct Plan {
     camera: Camera,
     chosen: Vec<u32>,
     sides: Option<SurfaceMesh>,
+    /// Seconds the choice took.
+    pub seconds: f64,
     /// The choice, per level, in words.
     pub notes: Vec<Note>,
 }
@@ -184,6 +186,13 @@ impl Hierarchy {
         Ok(best.map(|(_, pick)| pick))
     }
 
+    /// Cells along I, J and K of the model the hierarchy was built from.
+    pub fn dims(&self) -> [usize; 3] {
+        let [ni, nj] = self.file.dims().map(|n| n as usize);
+        let nz = self.file.layers().iter().map(|l| l.k as usize + 1).max();
+        [ni, nj, nz.unwrap_or(0)]
+    }
+
     /// The stored property's range over the drawn layers' cells.
     pub fn scalar_range(&self) -> Option<(f32, f32)> {
         self.scalar_range
@@ -242,18 +251,20 @@ impl Hierarchy {
             .as_ref()
             .map(|sides| faces_in_view(sides, &camera, aspect, true))
             .filter(|shown| !shown.is_empty());
-        let notes = self.describe(&chosen, pixels, start);
+        let seconds = start.elapsed().as_secs_f64();
+        let notes = self.describe(&chosen, pixels, seconds);
         Ok(Plan {
             camera,
             chosen,
             sides,
+            seconds,
             notes,
         })
     }
 
     /// The nodes `chosen` at `pixels` of error, in words: how many of the drawn
     /// layers' full-resolution triangles, and per level.
-    fn describe(&self, chosen: &[u32], pixels: f32, start: Instant) -> Vec<Note> {
+    fn describe(&self, chosen: &[u32], pixels: f32, seconds: f64) -> Vec<Note> {
         let file = &self.file;
         let mut per_level = BTreeMap::<u32, (usize, usize)>::new();
         for &i in chosen {
@@ -280,7 +291,7 @@ impl Hierarchy {
             pixels,
             chosen.len(),
             100.0 * drawn_triangles as f64 / all.max(1) as f64,
-            start.elapsed().as_secs_f64()
+            seconds
         ))];
         notes.extend(per_level.iter().map(|(level, (nodes, tris))| {
             Note::Info(format!("  level {level}: {nodes} nodes, {tris} triangles"))
@@ -302,6 +313,7 @@ impl Hierarchy {
             camera,
             mut chosen,
             sides,
+            seconds,
             notes,
         } = self.plan(scene)?;
         let file = &self.file;
@@ -399,10 +411,43 @@ impl Hierarchy {
             .collect();
         let image = renderer.render_to(&drawables, &view, &style, output)?;
         let side_triangles = sides.as_ref().map_or(0, SurfaceMesh::triangle_count);
-        let drawn = format!(
+        let drawn = self.drawn_words(
+            sides.as_ref(),
+            (shown.is_some(), tiles_shown),
+            isolines.as_ref(),
+            (chosen.len(), chosen_count),
+        );
+        let triangles = mesh.triangle_count() + side_triangles;
+        let report = FrameReport {
+            triangles,
+            drawn,
+            colouring: self
+                .scalar_range
+                .map(|r| ("stored property".to_string(), r)),
+            coverage: style.coverage,
+            notes,
+            view: Some((view, mesh.origin)),
+            select_seconds: seconds,
+            nodes: Some(chosen.len()),
+            ..FrameReport::default()
+        };
+        Ok((image, report))
+    }
+
+    /// What a frame drew, in words: the technique, the side triangles, how it was
+    /// coloured (`by_cell`, with the tiles shown of all), the isolines, and how many
+    /// of the nodes chosen were `drawn`.
+    fn drawn_words(
+        &self,
+        sides: Option<&SurfaceMesh>,
+        (by_cell, tiles_shown): (bool, Option<(usize, usize)>),
+        isolines: Option<&Isolines>,
+        (drawn, chosen_count): (usize, usize),
+    ) -> String {
+        format!(
             "drawn with the {} wireframe{}, {}{}{}",
-            wire.name(),
-            match &sides {
+            self.wire.name(),
+            match sides {
                 Some(sides) => format!(", {} side triangles", sides.triangle_count()),
                 None => String::new(),
             },
@@ -410,7 +455,7 @@ impl Hierarchy {
                 None => "no scalar".to_string(),
                 Some((a, b)) => format!(
                     "coloured {} over the property's cell range {a:.4}..{b:.4}{}",
-                    if shown.is_some() {
+                    if by_cell {
                         "cell by cell"
                     } else {
                         "by values interpolated between nodes"
@@ -431,28 +476,15 @@ impl Hierarchy {
                 ),
                 None => String::new(),
             },
-            match chosen.len() {
-                drawn if drawn == chosen_count => String::new(),
+            match drawn {
+                n if n == chosen_count => String::new(),
                 0 => format!("; none of the {chosen_count} nodes in view covers a pixel"),
-                drawn => format!(
-                    "; {drawn} of the {chosen_count} nodes in view drawn, the others hidden \
+                n => format!(
+                    "; {n} of the {chosen_count} nodes in view drawn, the others hidden \
                      behind them"
                 ),
             }
-        );
-        let triangles = mesh.triangle_count() + side_triangles;
-        let report = FrameReport {
-            triangles,
-            drawn,
-            colouring: self
-                .scalar_range
-                .map(|r| ("stored property".to_string(), r)),
-            coverage: style.coverage,
-            notes,
-            view: Some((view, mesh.origin)),
-            ..FrameReport::default()
-        };
-        Ok((image, report))
+        )
     }
 
     /// The isolines `scene` asks for of the stored property, drawn by the global

@@ -100,6 +100,14 @@ pub struct FrameReport {
     pub build_seconds: f64,
     /// Seconds drawing the frame.
     pub draw_seconds: f64,
+    /// Of the drawing, seconds choosing a hierarchy's nodes for the view (0 for other
+    /// content).
+    pub select_seconds: f64,
+    /// The hierarchy nodes drawn (`None` for other content).
+    pub nodes: Option<usize>,
+    /// GPU memory allocated, in bytes, where the backend reports it (Vulkan and
+    /// DirectX 12 do, through their allocator; OpenGL and Metal do not).
+    pub gpu_bytes: Option<u64>,
     /// What reading, building and drawing had to say, in order.
     pub notes: Vec<Note>,
     /// The view drawn (camera, size, depth range) and the display origin of the
@@ -172,6 +180,19 @@ impl SceneRenderer {
     /// The model read, once a frame has read it.
     pub fn model(&self) -> Option<&Model> {
         self.model.as_ref()
+    }
+
+    /// Cells along I, J and K of what is drawn: the model read, or the model a
+    /// hierarchy was built from; `None` before the first frame.
+    pub fn dims(&self) -> Option<[usize; 3]> {
+        if let Some(model) = &self.model {
+            let d = model.grid.dims();
+            return Some([d.nx, d.ny, d.nz]);
+        }
+        match &self.content {
+            Some(Content::Hierarchy(hierarchy)) => Some(hierarchy.dims()),
+            _ => None,
+        }
     }
 
     /// Reads the scene's model where it is not held yet, without building anything:
@@ -257,6 +278,15 @@ impl SceneRenderer {
         }
     }
 
+    /// Where the map point `point` (x, y, depth) falls in the last frame drawn, in
+    /// pixels from its top left corner (continuous: pixel `(x, y)` spans `x..x + 1`);
+    /// `None` behind the eye or before the first frame. A window draws its marks
+    /// (the picked cell's edges) there.
+    pub fn pixel_of(&self, point: [f64; 3]) -> Option<[f32; 2]> {
+        let (view, origin) = self.last_view?;
+        pick::pixel_of(&view, origin, point)
+    }
+
     /// The frame drawn last: its view and display origin (for picking).
     pub fn last_view(&self) -> Option<(View, [f64; 3])> {
         self.last_view
@@ -289,6 +319,9 @@ impl SceneRenderer {
         report.draw_seconds = drawing.elapsed().as_secs_f64();
         report.technique = scene.wire.technique.name();
         report.adapter = renderer.gpu.describe();
+        report.gpu_bytes = (renderer.gpu.device)
+            .generate_allocator_report()
+            .map(|r| r.total_allocated_bytes);
         let mut notes = std::mem::take(&mut self.pending);
         notes.append(&mut report.notes);
         report.notes = notes;

@@ -104,6 +104,28 @@ impl Ray {
     }
 }
 
+/// Where the map point `point` (x, y, depth) falls in `view`'s frame, whose positions
+/// are relative to `origin`: in pixels from the frame's top left corner, continuous
+/// (pixel `(x, y)` spans `x..x + 1`); `None` behind the eye.
+pub(crate) fn pixel_of(view: &View, origin: [f64; 3], point: [f64; 3]) -> Option<[f32; 2]> {
+    let display = Vec3::new(
+        (point[0] - origin[0]) as f32,
+        (point[1] - origin[1]) as f32,
+        (-point[2] - origin[2]) as f32,
+    );
+    let camera = &view.camera;
+    let aspect = view.width as f32 / view.height.max(1) as f32;
+    let clip = camera.view_proj(aspect, 1.0, 2.0) * display.extend(1.0);
+    if clip.w <= f32::EPSILON {
+        return None;
+    }
+    let [x, y] = [clip.x / clip.w, clip.y / clip.w];
+    Some([
+        0.5 * (x + 1.0) * view.width as f32,
+        0.5 * (1.0 - y) * view.height as f32,
+    ])
+}
+
 /// Where a ray met a mesh.
 pub(crate) struct Hit {
     /// The triangle met.
@@ -187,5 +209,48 @@ mod tests {
         assert_eq!(face.map(|f| f.cell), Some([1, 2, 0]));
         // A pixel off the mesh meets nothing.
         assert!(Ray::through(&view, 0.0, 0.0).nearest(&mesh).is_none());
+    }
+
+    #[test]
+    fn a_point_picked_projects_back_onto_the_centre_of_its_pixel() {
+        let mesh = SurfaceMesh::structured(8, 6, |i, j| {
+            [10.0 * i as f32, 10.0 * j as f32, -((i + j) as f32)]
+        });
+        let mut camera = Camera::orbit(Vec3::new(40.0, 30.0, -7.0), 35.0, 40.0, 150.0);
+        camera.z_scale = 3.0;
+        let view = View {
+            camera,
+            width: 320,
+            height: 200,
+            bounds: (Vec3::new(0.0, 0.0, -14.0), Vec3::new(80.0, 60.0, 0.0)),
+        };
+        let origin = [1000.0, 2000.0, 500.0];
+        for (x, y) in [(160.0, 100.0), (120.0, 120.0), (200.0, 120.0)] {
+            let ray = Ray::through(&view, x, y);
+            let hit = ray
+                .nearest(&mesh)
+                .unwrap_or_else(|| panic!("pixel ({x}, {y}) shows no mesh"));
+            let point = ray.map_point(hit.distance, origin);
+            let at = pixel_of(&view, origin, point).expect("in front of the eye");
+            assert!(
+                (at[0] - x - 0.5).abs() < 1e-2 && (at[1] - y - 0.5).abs() < 1e-2,
+                "pixel ({x}, {y}) came back at {at:?}"
+            );
+        }
+        // Behind the eye: nowhere in the frame.
+        let behind = ray_behind(&view, origin);
+        assert_eq!(pixel_of(&view, origin, behind), None);
+    }
+
+    /// A map point behind `view`'s eye.
+    fn ray_behind(view: &View, origin: [f64; 3]) -> [f64; 3] {
+        let camera = &view.camera;
+        let back = camera.eye + (camera.eye - camera.target);
+        Ray {
+            origin: back,
+            dir: Vec3::X,
+            z_scale: camera.z_scale,
+        }
+        .map_point(0.0, origin)
     }
 }

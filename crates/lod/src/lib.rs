@@ -65,6 +65,7 @@ pub use decimate::{Decimated, Options, Placement, Timings, decimate, decimate_on
 pub use error::{Error, Result};
 pub use file::{
     BuildReport, Indices, LayerRecord, LodFile, NodeRecord, Vertex, ViewPoint, build_file,
+    partial_path,
 };
 pub use hierarchy::{BuildOptions, LayerTree, Node, Progress, ProgressFn, build_layer};
 pub use index::MaybeIndex;

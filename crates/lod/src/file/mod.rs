@@ -40,3 +40,4 @@ pub use build::{BuildReport, build_file};
 pub use format::{Indices, LayerRecord, NodeRecord, Vertex};
 pub use read::LodFile;
 pub use select::ViewPoint;
+pub use writer::partial_path;

@@ -97,6 +97,16 @@ pub(super) type StoredTree = Vec<(StoredNode, Vec<u32>)>;
 /// takes `path`'s name only once whole ([`Writer::finish`]): a build that fails leaves
 /// a hierarchy already at `path` as it was, and one that succeeds replaces it without
 /// truncating it under a `lod view` that has it mapped.
+/// The hidden file a hierarchy bound for `path` is written into until it is whole
+/// (`.NAME.partial` beside it). A build that dies with its process leaves it behind;
+/// whoever abandons a build removes it.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let mut name = std::ffi::OsString::from(".");
+    name.push(path.file_name().unwrap_or_else(|| "hierarchy".as_ref()));
+    name.push(".partial");
+    path.with_file_name(name)
+}
+
 pub(super) struct Writer {
     path: PathBuf,
     partial: PathBuf,
@@ -110,10 +120,7 @@ pub(super) struct Writer {
 
 impl Writer {
     pub(super) fn create(path: &Path) -> Result<Self> {
-        let mut name = std::ffi::OsString::from(".");
-        name.push(path.file_name().unwrap_or_else(|| "hierarchy".as_ref()));
-        name.push(".partial");
-        let partial = path.with_file_name(name);
+        let partial = partial_path(path);
         let file = File::create(&partial).map_err(|e| Error::io(path, e))?;
         let mut w = Writer {
             path: path.to_path_buf(),
