@@ -17,7 +17,7 @@ use winit::window::{Window, WindowId};
 use super::background::{self, Build};
 use super::panel::{self, Facts, PanelState, Request};
 use super::script::{Command, set_field};
-use super::stats::{FrameStat, Stats, Summary, write_json};
+use super::stats::{Stats, Summary, write_json};
 use super::window::{self, WindowGpu};
 use super::{Options, controls};
 use crate::cell::CellInfo;
@@ -240,9 +240,8 @@ impl App {
         }
         window.paint(&renderer.gpu, &ctx, output)?;
         if let Some(report) = report {
-            let n = self.stats.last().map_or(0, |s| s.frame + 1);
-            let ms = 1e3 * start.elapsed().as_secs_f64();
-            self.stats.record(FrameStat::new(n, ms, &report));
+            self.stats
+                .record(1e3 * start.elapsed().as_secs_f64(), &report);
         }
         for command in after {
             self.after_frame(command, event_loop);
@@ -282,6 +281,7 @@ impl App {
                 let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
                 ui.painter().image(id, rect, uv, egui::Color32::WHITE);
             }
+            self.mark_picked(ui.painter(), rect.min, ppp);
             let pixel = |pos: egui::Pos2| [(pos.x - rect.min.x) * ppp, (pos.y - rect.min.y) * ppp];
             let delta = response.drag_delta() * ppp;
             if response.dragged_by(PointerButton::Primary) {
@@ -399,8 +399,14 @@ impl App {
                     self.panel.error = None;
                 }
                 self.good = self.scene.clone();
-                if self.facts.is_none() {
-                    self.facts = engine.model().map(facts);
+                if self.facts.as_ref().is_none_or(|f| f.dims.is_none()) {
+                    self.facts = Some(engine.model().map_or_else(
+                        || Facts {
+                            dims: engine.dims(),
+                            ..Facts::default()
+                        },
+                        facts,
+                    ));
                 }
                 Some(report)
             }
@@ -561,6 +567,42 @@ impl App {
         }
     }
 
+    /// Marks the picked cell over the picture whose top left corner is at `corner`
+    /// (`ppp` pixels per point): its twelve edges where its corners are known, else a
+    /// ring around the point hit. Drawn over everything, in a colour of its own, so it
+    /// shows through the surfaces that hide part of the cell.
+    fn mark_picked(&self, painter: &egui::Painter, corner: egui::Pos2, ppp: f32) {
+        let (Some(engine), Some((pick, info))) = (&self.engine, &self.panel.picked) else {
+            return;
+        };
+        let at = |point: [f64; 3]| {
+            engine
+                .pixel_of(point)
+                .map(|[x, y]| corner + egui::vec2(x, y) / ppp)
+        };
+        let dark = egui::Stroke::new(4.0, egui::Color32::BLACK);
+        let bright = egui::Stroke::new(2.0, PICKED_COLOUR);
+        match info {
+            Some(info) => {
+                let edges = CELL_EDGES
+                    .iter()
+                    .filter_map(|&[a, b]| Some([at(info.corners[a])?, at(info.corners[b])?]));
+                let edges: Vec<_> = edges.collect();
+                for stroke in [dark, bright] {
+                    for &edge in &edges {
+                        painter.line_segment(edge, stroke);
+                    }
+                }
+            }
+            None => {
+                if let Some(centre) = at(pick.point) {
+                    painter.circle_stroke(centre, 6.0, dark);
+                    painter.circle_stroke(centre, 6.0, bright);
+                }
+            }
+        }
+    }
+
     /// A script's pick, printed as one JSON line: `{"pick": {"pixel", "ijk" (1-based),
     /// "point" (x, y, depth), "cell"}}`, the cell as `info --cell --json` gives it;
     /// nulls where the pixel shows no cell.
@@ -715,3 +757,23 @@ fn help(ui: &mut egui::Ui) {
             });
         });
 }
+
+/// The colour the picked cell is marked in: a magenta that no colour map uses.
+const PICKED_COLOUR: egui::Color32 = egui::Color32::from_rgb(255, 0, 255);
+
+/// A cell's twelve edges, as pairs of its corners in `CellInfo`'s order (top face
+/// (I,J) (I+1,J) (I,J+1) (I+1,J+1), then the bottom face).
+const CELL_EDGES: [[usize; 2]; 12] = [
+    [0, 1],
+    [1, 3],
+    [3, 2],
+    [2, 0],
+    [4, 5],
+    [5, 7],
+    [7, 6],
+    [6, 4],
+    [0, 4],
+    [1, 5],
+    [2, 6],
+    [3, 7],
+];

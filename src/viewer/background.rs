@@ -12,7 +12,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::thread::JoinHandle;
 
-use strata_lod::{BuildOptions, Progress, build_file};
+use strata_lod::{BuildOptions, Progress, build_file, partial_path};
 
 use crate::engine::Model;
 use crate::scene::{Lod, ModelSource, Scene};
@@ -104,7 +104,7 @@ impl Build {
                 ..BuildOptions::default()
             };
             // Built aside and renamed: a half-written file is never taken for a hierarchy.
-            let part = out.with_extension("lod.part");
+            let part = Build::part(&out);
             pool.install(|| build_file(&model.grid, property.as_deref(), &part, &options))?;
             std::fs::rename(&part, &out).map_err(|e| Error::File {
                 path: out.clone(),
@@ -117,6 +117,12 @@ impl Build {
             total,
             thread: Some(thread),
         }
+    }
+
+    /// Where the build writes before renaming: `MODEL.lod.part`, itself written
+    /// through strata-lod's hidden partial file.
+    fn part(path: &Path) -> PathBuf {
+        path.with_extension("lod.part")
     }
 
     /// How far the build is, 0 to 1.
@@ -153,4 +159,15 @@ pub fn destination(model: &Path) -> PathBuf {
         .file_name()
         .map_or_else(|| "model.lod".into(), |n| n.to_os_string());
     std::env::temp_dir().join(name)
+}
+
+impl Drop for Build {
+    /// A build left unfinished (the window closed) dies with the process, before its
+    /// writer can clean up: its partial file is removed here, so nothing half-written
+    /// stays beside the model.
+    fn drop(&mut self) {
+        if self.thread.as_ref().is_some_and(|t| !t.is_finished()) {
+            let _ = std::fs::remove_file(partial_path(&Build::part(&self.path)));
+        }
+    }
 }

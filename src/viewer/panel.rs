@@ -93,19 +93,20 @@ pub fn show(
         }
         if let Some(stat) = stat {
             ui.separator();
-            ui.label(format!(
-                "frame {:.1} ms (engine {:.1}, building {:.1})\n{}",
-                stat.ms, stat.engine_ms, stat.build_ms, stat.drawn
-            ));
+            ui.label(format!("{}\n{}", stat.line(), stat.drawn));
         }
     });
     requests
 }
 
 /// An optional 1-based inclusive range over `1..=n`, edited as a checkbox and two
-/// numbers.
+/// numbers; unbounded above while `n` is not known (the engine refuses a range past
+/// the model's end, and names it).
 fn range(ui: &mut Ui, label: &str, value: &mut Option<[usize; 2]>, n: Option<usize>) {
-    let n = n.unwrap_or(1).max(1);
+    let (n, whole) = match n {
+        Some(n) => (n.max(1), n.max(1)),
+        None => (usize::MAX, 1),
+    };
     ui.horizontal(|ui| {
         let mut on = value.is_some();
         ui.checkbox(&mut on, label);
@@ -115,7 +116,7 @@ fn range(ui: &mut Ui, label: &str, value: &mut Option<[usize; 2]>, n: Option<usi
                 ui.add(DragValue::new(hi).range(1..=n));
                 *hi = (*hi).max(*lo);
             }
-            (true, None) => *value = Some([1, n]),
+            (true, None) => *value = Some([1, whole]),
             (false, _) => *value = None,
         }
     });

@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use serde_json::Value;
+use strata::render::Colormap;
 use strata::render::image::{self, RgbaImage};
 
 fn sample() -> PathBuf {
@@ -150,6 +151,31 @@ fn the_window_orbits_edits_picks_and_shows_what_it_captures() {
         diff < 1.0,
         "the display differs from the capture by {diff:.2} per byte at {at:?}"
     );
+    // The picked cell is marked in the window, over the frame (so not in the
+    // capture): magenta around the pixel picked, nowhere else.
+    let (ox, oy) = at;
+    let magenta: Vec<(usize, usize)> = (0..dump.height)
+        .flat_map(|y| (0..dump.width).map(move |x| (x, y)))
+        .filter(|&(x, y)| dump.rgb[y * dump.width + x] == [255, 0, 255])
+        .collect();
+    let xs = || magenta.iter().map(|&(x, _)| x as f64 - ox as f64);
+    let ys = || magenta.iter().map(|&(_, y)| y as f64 - oy as f64);
+    let (x0, x1) = (xs().fold(f64::MAX, f64::min), xs().fold(f64::MIN, f64::max));
+    let (y0, y1) = (ys().fold(f64::MAX, f64::min), ys().fold(f64::MIN, f64::max));
+    assert!(
+        magenta.len() >= 40 && (x0..=x1).contains(&250.5) && (y0..=y1).contains(&330.5),
+        "{} marked pixels spanning x {x0}..{x1}, y {y0}..{y1} around the pick at (250, 330)",
+        magenta.len()
+    );
+    assert!(
+        x1 - x0 < 200.0 && y1 - y0 < 200.0,
+        "the mark spans x {x0}..{x1}, y {y0}..{y1}: more than the cell"
+    );
+    assert!(!capture.pixels().any(|p| p.0[..3] == [255, 0, 255]));
+    // The legend's colour bar: a column of the capture that runs down the whole
+    // colour map, from its high end to its low end, never turning back.
+    let bar = colour_bar(&capture, Colormap::Viridis);
+    assert!(bar.is_some(), "no colour bar found in the capture");
     // And the capture is a picture of the model, not the background alone.
     let drawn = capture
         .pixels()
@@ -160,6 +186,51 @@ fn the_window_orbits_edits_picks_and_shows_what_it_captures() {
         "only {drawn} pixels drawn"
     );
     eprintln!("display against capture: {diff:.3} per byte at {at:?}; picked {ijk:?}");
+}
+
+/// The first column of `image` with a run of at least 100 pixels down the whole of
+/// `map` (from within 5 entries of its top to within 5 of its bottom, each pixel
+/// within a few levels of an entry, never turning back), as `(x, top, bottom)`.
+fn colour_bar(image: &RgbaImage, map: Colormap) -> Option<(u32, u32, u32)> {
+    let table = map.table();
+    let mut known = std::collections::HashMap::new();
+    let mut entry = |x: u32, y: u32| {
+        let p = image.get_pixel(x, y).0;
+        let c = [p[0], p[1], p[2]];
+        *known.entry(c).or_insert_with(|| nearest(&table, c))
+    };
+    (0..image.width()).find_map(|x| {
+        let mut run: Vec<(u32, usize)> = Vec::new();
+        for y in 0..image.height() {
+            match entry(x, y) {
+                Some(e) if run.last().is_none_or(|&(_, last)| e <= last) => run.push((y, e)),
+                Some(e) => run = vec![(y, e)],
+                None => run.clear(),
+            }
+            if let (Some(&(top, high)), Some(&(bottom, low))) = (run.first(), run.last())
+                && run.len() >= 100
+                && high >= 250
+                && low <= 5
+            {
+                return Some((x, top, bottom));
+            }
+        }
+        None
+    })
+}
+
+/// The entry of the colour `table` (RGBA rows) within a few levels of `c`, if any.
+fn nearest(table: &[u8], c: [u8; 3]) -> Option<usize> {
+    let (best, distance) = (0..256)
+        .map(|i| {
+            let d: i32 = (0..3)
+                .map(|k| (i32::from(table[4 * i + k]) - i32::from(c[k])).pow(2))
+                .sum();
+            (i, d)
+        })
+        .min_by_key(|&(_, d)| d)
+        .unwrap_or((0, i32::MAX));
+    (distance <= 48).then_some(best)
 }
 
 /// A flat 16 x 12 grid of 50 m cells at 1000 m depth, with FX, each cell's centre x.
@@ -395,4 +466,25 @@ fn a_large_model_opens_on_a_preview_while_its_hierarchy_is_built() {
         first.contains("wireframe"),
         "reopened on {first:?}, not the hierarchy; {out}"
     );
+    // The hierarchy opened alone knows the model's layers: the panel takes a range
+    // of them, and its statistics name the nodes drawn.
+    let script = "set layers [2,5]\nframes 2\nsave layers.json\n";
+    view(
+        dir.path(),
+        &["sample.lod", "--stats", "stats.json"],
+        script,
+        None,
+    );
+    let saved: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("layers.json")).expect("scene saved"),
+    )
+    .expect("scene JSON");
+    assert_eq!(saved["layers"], serde_json::json!([2, 5]));
+    let stats: Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("stats.json")).expect("stats written"),
+    )
+    .expect("stats JSON");
+    let last = stats["frames"].as_array().and_then(|f| f.last());
+    let nodes = last.and_then(|f| f["nodes"].as_u64());
+    assert!(nodes.is_some_and(|n| n > 0), "no nodes counted: {last:?}");
 }
