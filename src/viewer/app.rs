@@ -22,7 +22,7 @@ use super::window::{self, WindowGpu};
 use super::{Options, controls};
 use crate::cell::CellInfo;
 use crate::engine::Pick;
-use crate::scene::Lod;
+use crate::scene::{Lod, ModelSource};
 use crate::{Error, FrameReport, Result, Scene, SceneRenderer};
 
 /// The window and everything it holds between frames.
@@ -47,6 +47,10 @@ pub struct App {
     shots: usize,
     /// The hierarchy being built behind a preview, and the scene asked for.
     build: Option<(Build, Scene)>,
+    /// A hierarchy to build once the preview is on screen (the model, the property
+    /// it stores and the scene asked for): started before, it would take a core from
+    /// the first picture.
+    queued: Option<(ModelSource, Option<String>, Scene)>,
     /// When the last frame was drawn.
     drawn: Instant,
 }
@@ -101,6 +105,7 @@ impl App {
             played: Instant::now(),
             shots: 0,
             build: None,
+            queued: None,
             drawn: Instant::now(),
         }
     }
@@ -175,18 +180,24 @@ impl App {
             .or_else(|| model.grid.property("PORO").map(|_| "PORO".to_string()));
         let asked = self.scene.clone();
         self.scene = background::preview(&asked, model);
-        let build = Build::start(
-            source.clone(),
-            property,
-            background::destination(&source.path),
-        );
-        self.build = Some((build, asked));
+        self.queued = Some((source, property, asked));
         Ok(())
+    }
+
+    /// Starts the hierarchy's build queued by [`Self::settle_scene`], if any.
+    fn start_build(&mut self) {
+        if let Some((source, property, asked)) = self.queued.take() {
+            let destination = background::destination(&source.path);
+            self.build = Some((Build::start(source, property, destination), asked));
+        }
     }
 
     /// Follows the hierarchy's build: the scene asked for, on the hierarchy, once it is
     /// done (`wait`: blocking until then).
     fn follow_build(&mut self, wait: bool) {
+        if wait {
+            self.start_build();
+        }
         let Some((build, asked)) = &mut self.build else {
             return;
         };
@@ -239,6 +250,10 @@ impl App {
             }
         }
         window.paint(&renderer.gpu, &ctx, output)?;
+        if report.is_some() {
+            // The first picture is on screen: the build may take its cores.
+            self.start_build();
+        }
         if let Some(report) = report {
             self.stats
                 .record(1e3 * start.elapsed().as_secs_f64(), &report);
@@ -256,7 +271,10 @@ impl App {
     fn ui(&mut self, ui: &mut egui::Ui, gestures: &mut Gestures) {
         let facts = self.facts.clone().unwrap_or_default();
         let stat = self.stats.last().cloned();
-        let building = self.build.as_ref().map(|(build, _)| build.fraction());
+        let building = match (&self.build, &self.queued) {
+            (Some((build, _)), _) => Some(build.fraction()),
+            (None, queued) => queued.as_ref().map(|_| 0.0),
+        };
         egui::Panel::right("scene")
             .default_size(300.0)
             .show(ui, |ui| {
@@ -693,7 +711,7 @@ impl ApplicationHandler for App {
         };
         if self.script.is_some() || self.panel.playing {
             window.window.request_redraw();
-        } else if self.build.is_some() {
+        } else if self.build.is_some() || self.queued.is_some() {
             // The progress bar moves twice a second; the build keeps the cores.
             let next = self.drawn + std::time::Duration::from_millis(500);
             if Instant::now() >= next {
