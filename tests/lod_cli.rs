@@ -781,37 +781,20 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
     // two pictures' legends differ.
     for iso in [&[][..], &["--iso"][..]] {
         // Fault traces are drawn from a model's cell faces, which a hierarchy's nodes
-        // do not carry, and render's isoline pass draws no major lines yet (issue 75):
-        // both left out of both.
-        let mut options = vec![
-            "--sides",
-            "--no-legend",
-            "--fault-thickness",
-            "0",
-            "--major",
-            "0",
-        ];
+        // do not carry (issue 75): left out of both.
+        let mut options = vec!["--sides", "--no-legend", "--fault-thickness", "0"];
         options.extend_from_slice(iso);
         options.extend_from_slice(&full);
         let (printed, viewed) = view_lod(lod_s, &png("view"), "400x300", &options);
         assert!(printed.contains("(100.0 %)"), "{printed}");
         let rendered_options: Vec<&str> = match iso {
-            [] => vec![
-                "--sides",
-                "--no-legend",
-                "--fault-thickness",
-                "0",
-                "--major",
-                "0",
-            ],
+            [] => vec!["--sides", "--no-legend", "--fault-thickness", "0"],
             _ => vec![
                 "--sides",
                 "--iso",
                 "PORO",
                 "--no-legend",
                 "--fault-thickness",
-                "0",
-                "--major",
                 "0",
             ],
         };
@@ -836,12 +819,7 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
             "{side_triangles:?} of {all_sides:?} side triangles drawn"
         );
         let (model, ..) = measure(&picture("render"));
-        let plain_options = [
-            iso,
-            &full[..],
-            &["--no-legend", "--fault-thickness", "0", "--major", "0"],
-        ]
-        .concat();
+        let plain_options = [iso, &full[..], &["--no-legend", "--fault-thickness", "0"]].concat();
         let (_, plain) = view_lod(lod_s, &png("plain"), "400x300", &plain_options);
         let (with, without) = (
             differ(&viewed, &picture("render")),

@@ -149,9 +149,13 @@ fn shade_iso(in: IsoOut, wire: bool) -> vec4<f32> {
     let du = dpdx(in.uv);
     let dv = dpdy(in.uv);
     let a = depth_fraction(in.wp);
-    var cov = 0.0;
+    // The cell lines as (minor, major), major lines in their own colour as the
+    // wireframe techniques draw them (cell_lines).
+    var cov = vec2<f32>(0.0);
     if wire {
-        cov = union2(coverage(in.uv.x, length(vec2<f32>(du.x, dv.x)), a), coverage(in.uv.y, length(vec2<f32>(du.y, dv.y)), a));
+        let cu = cell_lines(in.uv.x, length(vec2<f32>(du.x, dv.x)), a);
+        let cv = cell_lines(in.uv.y, length(vec2<f32>(du.y, dv.y)), a);
+        cov = vec2<f32>(union2(cu.x, cv.x), union2(cu.y, cv.y));
     }
     // The texture is sampled as the paper samples it: never finer than its level 0
     // (two texels per pixel, see wire_texture.rs), so where the coordinate changes
@@ -164,7 +168,7 @@ fn shade_iso(in: IsoOut, wire: bool) -> vec4<f32> {
     }
     let extra = extra_lines_floored(in.wp, in.s, a, floor_grad);
     let base = base_color(in.scalar);
-    return compose_lines(base, shade(base.rgb, dpx, dpy), cov, extra);
+    return compose_cells(base, shade(base.rgb, dpx, dpy), cov, extra);
 }
 
 @fragment
