@@ -41,6 +41,9 @@ pub struct Hierarchy {
     wire: WireMode,
     /// The nodes the last frame drew, which picking looks through.
     last_chosen: Mutex<Vec<u32>>,
+    /// The drawn layers' fault traces, stored at full resolution, once uploaded
+    /// (`None` inside where there are none).
+    traces: Option<Option<Box<dyn Drawable>>>,
 }
 
 /// What a frame of a hierarchy draws: its camera, the nodes chosen, the side faces
@@ -132,6 +135,7 @@ impl Hierarchy {
             scalar_range,
             wire,
             last_chosen: Mutex::new(Vec::new()),
+            traces: None,
         })
     }
 
@@ -304,11 +308,20 @@ impl Hierarchy {
     /// Draws a frame of `scene`: the nodes its camera needs, over the model's cells
     /// where the technique finds them by the global coordinates.
     pub fn draw(
-        &self,
+        &mut self,
         renderer: &mut Renderer,
         scene: &Scene,
         output: Output,
     ) -> Result<(Option<RgbaImage>, FrameReport)> {
+        if self.traces.is_none() {
+            let segments: Vec<_> = (self.drawn.iter().enumerate())
+                .filter(|(_, drawn)| **drawn)
+                .flat_map(|(l, _)| self.file.layer_faults(l).iter().copied())
+                .collect();
+            let traces =
+                (renderer.prepare_fault_traces(&segments)).context("preparing the fault traces")?;
+            self.traces = Some(traces);
+        }
         let Plan {
             camera,
             mut chosen,
@@ -404,10 +417,15 @@ impl Hierarchy {
         if let Ok(mut last) = self.last_chosen.lock() {
             last.clone_from(&chosen);
         }
+        // Fault traces last, over the surfaces they lie on; none where no node covers a
+        // pixel (their width is in pixels: they would draw a model too small to see).
+        let traces =
+            (self.traces.as_ref().and_then(Option::as_deref)).filter(|_| !chosen.is_empty());
         let drawables: Vec<&dyn Drawable> = drawable
             .as_deref()
             .into_iter()
             .chain(side_drawable.as_deref())
+            .chain(traces)
             .collect();
         let image = renderer.render_to(&drawables, &view, &style, output)?;
         let side_triangles = sides.as_ref().map_or(0, SurfaceMesh::triangle_count);

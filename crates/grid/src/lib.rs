@@ -54,6 +54,7 @@
 
 pub mod eclbin;
 mod error;
+pub mod faults;
 pub mod grdecl;
 mod grid;
 mod mesh;

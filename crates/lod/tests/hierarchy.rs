@@ -6,6 +6,8 @@ mod common;
 use common::{faulted_grid, layer, one_tile_top, shared_data};
 use std::collections::HashMap;
 use std::ops::Range;
+use strata_grid::faults::fault_traces;
+use strata_grid::synth::{SynthParams, generate};
 use strata_grid::{
     CornerPointGrid, Face, ReadOptions, SurfaceMesh, Surfaces, layer_surfaces, side_surfaces,
 };
@@ -1113,4 +1115,41 @@ fn over_a_layer_of_one_tile_the_chain_goes_down_to_the_coarsest_node() {
             );
         }
     }
+}
+
+#[test]
+fn each_layer_surfaces_fault_traces_are_stored_as_found_at_full_resolution() {
+    let grid = faulted_grid(40, 30);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("model.lod");
+    build_file(&grid, None, &path, &options(8)).unwrap();
+    let file = LodFile::open(&path).unwrap();
+    let origin = grid.display_origin();
+    let mut all = 0;
+    for (l, layer) in file.layers().iter().enumerate() {
+        let face = if layer.face == 0 {
+            Face::Top
+        } else {
+            Face::Bottom
+        };
+        let k = layer.k as usize;
+        let mesh = layer_surfaces(&grid, face, &Surfaces::layer(k, origin)).unwrap();
+        let want = fault_traces(&mesh);
+        assert_eq!(file.layer_faults(l), &want[..], "layer surface {l}");
+        all += want.len();
+    }
+    // The faulted grid's faults split every layer surface: both sides' edges.
+    assert!(all >= 2 * file.layers().len(), "{all} segments");
+    // A generated grid without faults stores none.
+    let unfaulted = generate(&SynthParams {
+        nx: 40,
+        ny: 30,
+        nz: 3,
+        faults: 0,
+        seed: 7,
+    })
+    .unwrap();
+    build_file(&unfaulted, None, &path, &options(8)).unwrap();
+    let file = LodFile::open(&path).unwrap();
+    assert!((0..file.layers().len()).all(|l| file.layer_faults(l).is_empty()));
 }

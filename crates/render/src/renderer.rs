@@ -152,6 +152,8 @@ pub struct Renderer {
     isolines: Option<IsolineTechnique>,
     /// Without and with the mask, then both without the wire.
     cells: [Option<wire::CellTechnique>; 4],
+    /// Draws fault traces given as segments (a hierarchy's).
+    faults: Option<wgpu::RenderPipeline>,
     targets: Option<Targets>,
     /// Blended over the end of every frame (the colour legend).
     overlay: Option<Overlay>,
@@ -267,6 +269,7 @@ impl Renderer {
             techniques: HashMap::new(),
             isolines: None,
             cells: [None, None, None, None],
+            faults: None,
             targets: None,
             overlay: None,
         })
@@ -334,6 +337,22 @@ impl Renderer {
         })
     }
 
+    /// Uploads fault trace `segments` (`strata_grid::faults`, in the display frame of
+    /// the meshes they lie on) to draw in the fault style over what is drawn before
+    /// them: a hierarchy's, stored at full resolution, whose nodes carry no cell faces
+    /// to find them from. `None` when there are none.
+    pub fn prepare_fault_traces(
+        &mut self,
+        segments: &[strata_grid::faults::Segment],
+    ) -> Result<Option<Box<dyn Drawable>>> {
+        self.build_fault_pipeline();
+        let pipeline = self.faults.as_ref();
+        let traces = validated(&self.gpu, || {
+            Ok(pipeline.and_then(|p| wire::FaultTraces::new(&self.gpu, segments, p)))
+        })?;
+        Ok(traces.map(|t| Box::new(t) as Box<dyn Drawable>))
+    }
+
     /// What a technique outside the wire registry (e.g. the contour baseline) needs
     /// to build pipelines that draw into this renderer's frames.
     pub fn context(&self) -> PipelineContext<'_> {
@@ -367,10 +386,26 @@ impl Renderer {
         };
         let prepared = technique.prepare(&self.gpu, mesh, field, options);
         self.isolines = Some(technique);
+        // With the traces of the mesh's faults, as the wireframe techniques draw them.
+        self.build_fault_pipeline();
+        let faulted: Result<Box<dyn Drawable>> = match (prepared, &self.faults) {
+            (Ok(draw), Some(faults)) => {
+                Ok(Box::new(wire::Faulted::new(&self.gpu, draw, mesh, faults)))
+            }
+            (Ok(draw), None) => Ok(Box::new(draw)),
+            (Err(e), _) => Err(e),
+        };
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::Gpu(e.to_string()));
         }
-        Ok(Box::new(prepared?))
+        faulted
+    }
+
+    /// Builds the pipeline drawing fault traces given as segments, once.
+    fn build_fault_pipeline(&mut self) {
+        if self.faults.is_none() {
+            self.faults = Some(wire::fault_pipeline(&self.context()));
+        }
     }
 
     /// Runs the isoline range adjust alone for `view` and `style` and returns the

@@ -5,6 +5,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use rayon::prelude::*;
+use strata_grid::faults::{Segment, fault_traces};
 use strata_grid::{
     CellFace, CornerPointGrid, Face, SurfaceMesh, Surfaces, layer_surfaces, side_surfaces,
 };
@@ -41,6 +42,8 @@ struct BuiltSurface {
     face: Face,
     tree: StoredTree,
     cells: Option<LayerCells>,
+    /// Its fault traces, found before the tree drops the cell faces.
+    faults: Vec<Segment>,
 }
 
 /// Bytes one layer surface's hierarchy holds per active cell while it is built: the
@@ -124,6 +127,8 @@ pub fn build_file(
                 let mut mesh =
                     layer_surfaces(grid, face, &Surfaces::layer(k, origin).property(property))?;
                 let cells = property.map(|_| LayerCells::of(&mesh, dims));
+                // Found at full resolution, which the nodes, without cell faces, lose.
+                let faults = fault_traces(&mesh);
                 // The tree needs no cell faces: 24 bytes a cell less while it is built.
                 mesh.cell_faces = Vec::new();
                 let tree = build_layer_with(&mesh, dims, options, &built, &StoredNode::of)?;
@@ -133,6 +138,7 @@ pub fn build_file(
                     face,
                     tree,
                     cells,
+                    faults,
                 })
             })
             .collect::<Result<_>>()?;
@@ -154,7 +160,7 @@ pub fn build_file(
             report.nodes += tree.len();
             report.layers += usize::from(!tree.is_empty());
             report.side_triangles += sides.map_or(0, SurfaceMesh::triangle_count);
-            writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides)?;
+            writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides, &s.faults)?;
             written += 1;
             tell(Progress::Written {
                 written,

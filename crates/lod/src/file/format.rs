@@ -7,8 +7,8 @@ use bytemuck::{Pod, Zeroable};
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
 /// faces. 5: side faces wound counter-clockwise seen from outside their cells, so a
 /// view leaves out those that turn their back to the eye. 6: the header ends with the
-/// box views frame.
-pub(super) const VERSION: u32 = 6;
+/// box views frame. 7: each layer surface's fault traces.
+pub(super) const VERSION: u32 = 7;
 
 /// Header flag: vertices carry a scalar (NaN otherwise).
 pub(super) const HAS_SCALARS: u32 = 1;
@@ -63,6 +63,11 @@ pub struct LayerRecord {
     pub side_vertices: u32,
     /// Side faces, two triangles each.
     pub side_faces: u32,
+    /// Byte offset of the layer surface's fault traces; 0 where there are none.
+    pub faults_offset: u64,
+    /// Fault trace segments (two points of three f32 each).
+    pub fault_segments: u32,
+    pub(super) _pad: u32,
 }
 
 /// One node of the file.

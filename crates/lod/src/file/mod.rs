@@ -20,8 +20,12 @@
 //!               counter-clockwise seen from outside the face's cell), then per face
 //!               its cell's (i, j) (u32 pairs), then per face the property's value
 //!               (f32, NaN without one), padded to 8 bytes
-//! LayerRecord   40 bytes per layer surface: grid layer, face, root node, node count,
-//!               offsets of its cells and sides, side vertex and face counts
+//! layer faults  per layer surface with fault traces (`strata_grid::faults`, found at
+//!               full resolution), after its sides: the segments' two ends (six f32
+//!               each), padded to 8 bytes
+//! LayerRecord   56 bytes per layer surface: grid layer, face, root node, node count,
+//!               offsets of its cells and sides, side vertex and face counts, offset
+//!               and count of its fault segments
 //! NodeRecord    96 bytes per node (see the struct)
 //! ```
 //!

@@ -5,6 +5,7 @@ use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use memmap2::Mmap;
+use strata_grid::faults::Segment;
 use strata_grid::{CellFace, Content, HIERARCHY_MAGIC, SurfaceMesh};
 
 use super::format::{
@@ -12,6 +13,9 @@ use super::format::{
     STRAY_CORNERS, VERSION, Vertex, layer_cells_bytes, layer_sides_bytes,
 };
 use crate::{Error, Result};
+
+/// Bytes of a fault trace segment as stored: two points of three f32.
+const SEGMENT_BYTES: u64 = std::mem::size_of::<Segment>() as u64;
 
 /// A hierarchy file, memory mapped.
 pub struct LodFile {
@@ -129,6 +133,22 @@ impl LodFile {
             };
             if !sides_fit {
                 return Err(bad(at, &format!("layer {l}: sides outside the file")));
+            }
+            let faults_fit = if layer.fault_segments == 0 {
+                layer.faults_offset == 0
+            } else {
+                layer.faults_offset >= HEADER_BYTES as u64
+                    && layer.faults_offset.is_multiple_of(8)
+                    && layer
+                        .faults_offset
+                        .checked_add(SEGMENT_BYTES * u64::from(layer.fault_segments))
+                        .is_some_and(|end| end <= len)
+            };
+            if !faults_fit {
+                return Err(bad(
+                    at,
+                    &format!("layer {l}: fault traces outside the file"),
+                ));
             }
         }
         out.check_tree()?;
@@ -253,6 +273,17 @@ impl LodFile {
             bytemuck::cast_slice(&self.map[o..values]),
             bytemuck::cast_slice(&self.map[values..values + 4 * cells]),
         ))
+    }
+
+    /// The fault traces of layer surface `l` (`strata_grid::faults`), found at full
+    /// resolution when it was built, in the display frame of the file's origin.
+    /// (In place in the mapped file: its offset was checked 8-byte aligned on opening.)
+    pub fn layer_faults(&self, l: usize) -> &[Segment] {
+        let layer = &self.layers()[l];
+        let o = layer.faults_offset as usize;
+        bytemuck::cast_slice(
+            &self.map[o..o + SEGMENT_BYTES as usize * layer.fault_segments as usize],
+        )
     }
 
     /// The side faces of layer surface `l`'s grid layer (outer shell and fault walls,

@@ -6,6 +6,7 @@ use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use bytemuck::Zeroable;
+use strata_grid::faults::Segment;
 use strata_grid::{Face, HIERARCHY_MAGIC, SurfaceMesh};
 
 use super::format::{HAS_SCALARS, Header, LayerRecord, NodeRecord, STRAY_CORNERS, VERSION, Vertex};
@@ -155,6 +156,7 @@ impl Writer {
         tree: &StoredTree,
         cells: Option<&LayerCells>,
         sides: Option<&SurfaceMesh>,
+        faults: &[Segment],
     ) -> Result<()> {
         if tree.is_empty() {
             return Ok(());
@@ -210,6 +212,15 @@ impl Writer {
             }
             _ => (0, 0, 0),
         };
+        let faults_offset = match faults {
+            [] => 0,
+            _ => {
+                let offset = self.pos;
+                self.write(bytemuck::cast_slice(faults))?;
+                self.pad()?;
+                offset
+            }
+        };
         self.layers.push(LayerRecord {
             k,
             face: match face {
@@ -222,6 +233,9 @@ impl Writer {
             sides_offset,
             side_vertices,
             side_faces,
+            faults_offset,
+            fault_segments: faults.len() as u32,
+            _pad: 0,
         });
         Ok(())
     }

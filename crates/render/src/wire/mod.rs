@@ -6,6 +6,7 @@ mod bias;
 mod cells;
 mod distance;
 mod faults;
+pub(crate) use faults::{FaultTraces, Faulted, fault_pipeline};
 mod idbuffer;
 pub mod labels;
 mod lines;

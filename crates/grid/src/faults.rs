@@ -1,0 +1,182 @@
+//! Fault traces: where a layer surface is split because two neighbouring cells' corner
+//! depths differ, both sides' cell edges there. Renderers draw them in a style of
+//! their own; a hierarchy stores each layer surface's, found at full resolution.
+//!
+//! The traces are found from the cell faces of a mesh: a face of a layer surface has
+//! the global coordinates `(2i + 1 + 2di, 2j + 1 + 2dj)` at its corners, and its
+//! neighbour across an edge is the face of the next cell of the same surface; where the
+//! two edges are not at the same place, the surface is split there. Meshes appended
+//! one after another (the tops of several layers, the bottom of the last, side walls)
+//! are told apart by the order of their faces: a surface holds each cell once, so a
+//! cell seen again starts the next surface. Meshes without cell faces (decimated
+//! surfaces) have no traces here.
+
+use crate::SurfaceMesh;
+
+/// One trace segment: its two ends, in the mesh's frame.
+pub type Segment = [[f32; 3]; 2];
+
+/// The corners of a layer surface's cell face, `[(0, 0), (1, 0), (0, 1), (1, 1)]` in
+/// cell steps along i and j, or `None` for a face whose coordinates are not those
+/// of a layer face of its cell (a side wall).
+fn layer_corners(mesh: &SurfaceMesh, cell: [u32; 3], triangles: [u32; 2]) -> Option<[u32; 4]> {
+    let mut corners = [u32::MAX; 4];
+    for t in triangles {
+        for &v in mesh.triangles.get(t as usize)? {
+            let [u, w] = *mesh.texcoords.get(v as usize)?;
+            let di = (u - (2 * cell[0] + 1) as f32) * 0.5;
+            let dj = (w - (2 * cell[1] + 1) as f32) * 0.5;
+            let at = match (di, dj) {
+                (0.0, 0.0) => 0,
+                (1.0, 0.0) => 1,
+                (0.0, 1.0) => 2,
+                (1.0, 1.0) => 3,
+                _ => return None,
+            };
+            corners[at] = v;
+        }
+    }
+    corners.iter().all(|&v| v != u32::MAX).then_some(corners)
+}
+
+/// A layer face: its cell and its corners (`layer_corners`).
+type LayerFace = ([u32; 3], [u32; 4]);
+
+/// The fault trace segments of `mesh`: both sides' edges wherever neighbouring cell
+/// faces of one layer surface do not meet. The faces of a surface are found in a dense
+/// table over (i, j), not a hash map: a part of a large model holds millions.
+pub fn fault_traces(mesh: &SurfaceMesh) -> Vec<Segment> {
+    let faces: Vec<LayerFace> = mesh
+        .cell_faces
+        .iter()
+        .filter_map(|f| Some((f.cell, layer_corners(mesh, f.cell, f.triangles)?)))
+        .collect();
+    // The box of the faces' columns (a part of a large layer is a band of it).
+    let range = |axis: usize| {
+        let values = faces.iter().map(|(c, _)| c[axis] as usize);
+        let lo = values.clone().min().unwrap_or(0);
+        (lo, values.max().map_or(0, |hi| hi + 1 - lo))
+    };
+    let ((i0, ni), (j0, nj)) = (range(0), range(1));
+    let mut table = Surface {
+        faces: &faces,
+        ni,
+        slot: vec![u32::MAX; ni * nj],
+        members: Vec::new(),
+    };
+    let mut out = Vec::new();
+    for (n, (cell, _)) in faces.iter().enumerate() {
+        let at = (cell[1] as usize - j0) * ni + cell[0] as usize - i0;
+        if table.slot[at] != u32::MAX {
+            // The column again: the next surface starts here.
+            table.flush(mesh, &mut out);
+        }
+        table.slot[at] = n as u32;
+        table.members.push(at);
+    }
+    table.flush(mesh, &mut out);
+    out
+}
+
+/// The faces of the surface being read, by column.
+struct Surface<'f> {
+    faces: &'f [LayerFace],
+    ni: usize,
+    /// Per column (i, j), the index of its face, `u32::MAX` for none.
+    slot: Vec<u32>,
+    /// The columns filled.
+    members: Vec<usize>,
+}
+
+impl Surface<'_> {
+    /// Adds the traces of the surface read so far to `out` and empties the table.
+    fn flush(&mut self, mesh: &SurfaceMesh, out: &mut Vec<Segment>) {
+        let at = |v: u32| mesh.positions[v as usize];
+        let same = |x: u32, y: u32| at(x).map(f32::to_bits) == at(y).map(f32::to_bits);
+        for &column in &self.members {
+            let ([_, _, k], c) = self.faces[self.slot[column] as usize];
+            // Across +i: this face's corners (1, 0), (1, 1) against the next's (0, 0),
+            // (0, 1); across +j: (0, 1), (1, 1) against (0, 0), (1, 0).
+            let next_i = ((column + 1) % self.ni != 0).then_some(column + 1);
+            let next_j = Some(column + self.ni).filter(|&n| n < self.slot.len());
+            for (next, mine, theirs) in [(next_i, [1, 3], [0, 2]), (next_j, [2, 3], [0, 1])] {
+                let Some(&face) = next.and_then(|n| self.slot.get(n)) else {
+                    continue;
+                };
+                let Some(&(cell, n)) = self.faces.get(face as usize) else {
+                    continue;
+                };
+                if cell[2] != k {
+                    continue;
+                }
+                let (a, b) = (mine.map(|m| c[m]), theirs.map(|t| n[t]));
+                if same(a[0], b[0]) && same(a[1], b[1]) {
+                    continue;
+                }
+                for [p, q] in [a, b] {
+                    out.push([at(p), at(q)]);
+                }
+            }
+        }
+        for &column in &self.members {
+            self.slot[column] = u32::MAX;
+        }
+        self.members.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat 6 x 4 grid of 10 m cells; with `throw`, the cells from i = 3 on lower by
+    /// it, split along their line I 3.
+    fn split(throw: f32) -> SurfaceMesh {
+        let mut mesh = SurfaceMesh::structured(6, 4, |i, j| {
+            let drop = if i > 3 { throw } else { 0.0 };
+            [10.0 * i as f32, 10.0 * j as f32, -drop]
+        });
+        let first = mesh.positions.len() as u32;
+        for j in 0..=4 {
+            let [x, y, z] = mesh.positions[j * 7 + 3];
+            mesh.positions.push([x, y, z - throw]);
+            mesh.texcoords.push(mesh.texcoords[j * 7 + 3]);
+        }
+        for face in mesh.cell_faces.clone() {
+            if face.cell[0] >= 3 {
+                for t in face.triangles {
+                    for v in &mut mesh.triangles[t as usize] {
+                        if *v < first && *v % 7 == 3 {
+                            *v = first + *v / 7;
+                        }
+                    }
+                }
+            }
+        }
+        mesh
+    }
+
+    #[test]
+    fn both_sides_of_a_split_are_traces_and_nothing_else_is() {
+        let traces = fault_traces(&split(5.0));
+        // Four cell edges along the fault, on each side.
+        assert_eq!(traces.len(), 8);
+        for pair in traces.chunks(2) {
+            assert!(pair.iter().all(|s| s[0][0] == 30.0 && s[1][0] == 30.0));
+            assert_eq!((pair[0][0][2], pair[1][0][2]), (0.0, -5.0));
+        }
+        // Split vertices that stay at the same place are no fault.
+        assert!(fault_traces(&split(0.0)).is_empty());
+        // Two surfaces of the same cells appended (a layer's top and bottom) are two
+        // surfaces, not one folded onto itself.
+        let mut stacked =
+            SurfaceMesh::structured(6, 4, |i, j| [10.0 * i as f32, 10.0 * j as f32, 0.0]);
+        stacked.append(&SurfaceMesh::structured(6, 4, |i, j| {
+            [10.0 * i as f32, 10.0 * j as f32, -3.0]
+        }));
+        assert!(fault_traces(&stacked).is_empty());
+        let mut two = split(5.0);
+        two.append(&split(5.0));
+        assert_eq!(fault_traces(&two).len(), 16);
+    }
+}
