@@ -18,14 +18,6 @@ fn small(scene: Scene) -> Scene {
     }
 }
 
-/// `scene` without fault traces: a trace is found by the cell across the fault, which a
-/// part does not hold at its border yet (a known gap, issue 75), so pictures drawn in
-/// parts are compared with the whole without them.
-fn without_fault_traces(mut scene: Scene) -> Scene {
-    scene.wire.fault_thickness = 0.0;
-    scene
-}
-
 /// The counters of an engine that read `models`, built `contents` and drew `frames`.
 fn counted(models: usize, contents: usize, frames: usize) -> Counters {
     Counters {
@@ -123,11 +115,11 @@ fn a_change_rebuilds_only_what_it_invalidates() {
 
 #[test]
 fn a_scene_in_parts_is_framed_and_drawn_from_what_is_held() {
-    let scene = without_fault_traces(small(Scene {
+    let scene = small(Scene {
         sides: true,
         part_cells: 500,
         ..Scene::of_model(sample())
-    }));
+    });
     let mut engine = SceneRenderer::new(scene.clone()).expect("a scene");
     let first = engine.render().expect("a frame");
     assert!(
@@ -313,10 +305,10 @@ fn a_range_filter_cuts_the_model_open() {
     let mut engine = SceneRenderer::new(scene.clone()).expect("a scene");
     let tops = engine.render().expect("a frame");
     assert_eq!(tops.report.triangles, 2 * layer_faces);
-    let with_sides = without_fault_traces(Scene {
+    let with_sides = Scene {
         sides: true,
         ..scene.clone()
-    });
+    };
     engine.set_scene(with_sides.clone()).expect("sides");
     let walls = engine.render().expect("a frame");
     assert_eq!(walls.report.triangles, 2 * (layer_faces + side_faces));

@@ -3,6 +3,7 @@
 //! sides, each built, drawn and dropped before the next, so that a model of any size
 //! draws in about the memory of one part, and the picture is the one mesh's.
 
+use strata_grid::faults::fault_traces_across_row;
 use strata_grid::{CornerPointGrid, SurfaceMesh};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
@@ -177,7 +178,14 @@ impl Parts {
         let mut done = 0;
         let mut queue = self.parts.iter();
         let (options, iso) = (&self.options, &self.iso);
+        let faults = style.faults.is_some();
+        // The fault traces on a band's border with the band before, which neither
+        // finds alone, drawn after the band.
+        let mut border: Option<Box<dyn strata_render::wire::Drawable>> = None;
         let image = renderer.render_parts_to(&view, &style, output, |r| -> Result<_> {
+            if let Some(traces) = border.take() {
+                return Ok(Some(traces));
+            }
             for part in queue.by_ref() {
                 done += 1;
                 if let Some(report) = progress {
@@ -193,6 +201,18 @@ impl Parts {
                 let mesh = in_view(build(options)?);
                 if mesh.triangle_count() == 0 {
                     continue;
+                }
+                if let (true, Part::Band { layer, face, rows }) = (faults, part)
+                    && rows.start > 0
+                {
+                    let strip = Part::Band {
+                        layer: *layer,
+                        face: *face,
+                        rows: rows.start - 1..rows.start + 1,
+                    };
+                    let strip = surfaces::build_part(grid, options, &strip, origin, &columns)?;
+                    let segments = fault_traces_across_row(&strip, rows.start as u32);
+                    border = r.prepare_fault_traces(&segments)?;
                 }
                 drawn += 1;
                 triangles += mesh.triangle_count();

@@ -46,6 +46,18 @@ type LayerFace = ([u32; 3], [u32; 4]);
 /// faces of one layer surface do not meet. The faces of a surface are found in a dense
 /// table over (i, j), not a hash map: a part of a large model holds millions.
 pub fn fault_traces(mesh: &SurfaceMesh) -> Vec<Segment> {
+    traces(mesh, None)
+}
+
+/// The fault traces of `mesh` between its cells of row `j - 1` and those of row `j`
+/// alone: where a surface drawn in bands of rows is split on the border of two bands,
+/// which neither band finds alone. `mesh` holds (at least) both rows.
+pub fn fault_traces_across_row(mesh: &SurfaceMesh, j: u32) -> Vec<Segment> {
+    traces(mesh, Some(j))
+}
+
+/// The traces of `mesh`, or with `across_row`, those across that row's lower edge.
+fn traces(mesh: &SurfaceMesh, across_row: Option<u32>) -> Vec<Segment> {
     let faces: Vec<LayerFace> = mesh
         .cell_faces
         .iter()
@@ -69,12 +81,12 @@ pub fn fault_traces(mesh: &SurfaceMesh) -> Vec<Segment> {
         let at = (cell[1] as usize - j0) * ni + cell[0] as usize - i0;
         if table.slot[at] != u32::MAX {
             // The column again: the next surface starts here.
-            table.flush(mesh, &mut out);
+            table.flush(mesh, across_row, &mut out);
         }
         table.slot[at] = n as u32;
         table.members.push(at);
     }
-    table.flush(mesh, &mut out);
+    table.flush(mesh, across_row, &mut out);
     out
 }
 
@@ -89,16 +101,20 @@ struct Surface<'f> {
 }
 
 impl Surface<'_> {
-    /// Adds the traces of the surface read so far to `out` and empties the table.
-    fn flush(&mut self, mesh: &SurfaceMesh, out: &mut Vec<Segment>) {
+    /// Adds the traces of the surface read so far to `out` (with `across_row`, only
+    /// those between that row and the one before) and empties the table.
+    fn flush(&mut self, mesh: &SurfaceMesh, across_row: Option<u32>, out: &mut Vec<Segment>) {
         let at = |v: u32| mesh.positions[v as usize];
         let same = |x: u32, y: u32| at(x).map(f32::to_bits) == at(y).map(f32::to_bits);
         for &column in &self.members {
-            let ([_, _, k], c) = self.faces[self.slot[column] as usize];
+            let ([_, j, k], c) = self.faces[self.slot[column] as usize];
             // Across +i: this face's corners (1, 0), (1, 1) against the next's (0, 0),
             // (0, 1); across +j: (0, 1), (1, 1) against (0, 0), (1, 0).
-            let next_i = ((column + 1) % self.ni != 0).then_some(column + 1);
-            let next_j = Some(column + self.ni).filter(|&n| n < self.slot.len());
+            let next_i =
+                ((column + 1) % self.ni != 0 && across_row.is_none()).then_some(column + 1);
+            let next_j = Some(column + self.ni)
+                .filter(|&n| n < self.slot.len())
+                .filter(|_| across_row.is_none_or(|row| j + 1 == row));
             for (next, mine, theirs) in [(next_i, [1, 3], [0, 2]), (next_j, [2, 3], [0, 1])] {
                 let Some(&face) = next.and_then(|n| self.slot.get(n)) else {
                     continue;
@@ -175,6 +191,20 @@ mod tests {
             [10.0 * i as f32, 10.0 * j as f32, -3.0]
         }));
         assert!(fault_traces(&stacked).is_empty());
+        // Split across a row instead: the traces across that row alone.
+        let mut across = split(5.0);
+        for p in &mut across.positions {
+            p.swap(0, 1);
+        }
+        for t in &mut across.texcoords {
+            t.swap(0, 1);
+        }
+        for f in &mut across.cell_faces {
+            f.cell.swap(0, 1);
+        }
+        assert_eq!(fault_traces_across_row(&across, 3).len(), 8);
+        assert!(fault_traces_across_row(&across, 2).is_empty());
+        assert!(fault_traces_across_row(&split(5.0), 3).is_empty());
         let mut two = split(5.0);
         two.append(&split(5.0));
         assert_eq!(fault_traces(&two).len(), 16);
