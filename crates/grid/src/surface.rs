@@ -379,11 +379,12 @@ fn one_layer(
         |i: usize, j: usize, di: usize, dj: usize| grid.zcorn[[2 * k + dk, 2 * j + dj, 2 * i + di]];
 
     // Which cells contribute a face: the rectangle's, and those around it, whose
-    // cells share the nodes of its edges.
+    // cells share the nodes of its edges or lend their values to them (two rings: a
+    // node's value at a border is extrapolated from cells up to two away).
     let Columns {
         i: seen_i,
         j: seen_j,
-    } = columns.around(1, grid.dims());
+    } = columns.around(2, grid.dims());
     let width = seen_i.len();
     let kept: Vec<bool> = (0..width * seen_j.len())
         .into_par_iter()
@@ -447,19 +448,30 @@ fn one_layer(
                     mesh.texcoords
                         .push([(2 * pi + 1) as f32, (2 * pj + 1) as f32]);
                     if let Some(v) = values {
-                        let (sum, count) = (0..4)
+                        let members: Vec<(isize, isize)> = (0..4)
                             .filter(|&m| present[m] && group[m] == g)
-                            .map(|m| {
-                                let (i, j) = (around[m].0 as usize, around[m].1 as usize);
-                                request.value_of(grid, v, [i, j, k])
-                            })
-                            .filter(|x| !x.is_nan())
-                            .fold((0f64, 0u32), |(s, c), x| (s + f64::from(x), c + 1));
-                        mesh.scalars.push(if count == 0 {
-                            f32::NAN
-                        } else {
-                            (sum / f64::from(count)) as f32
-                        });
+                            .map(|m| around[m])
+                            .collect();
+                        let value = |i: isize, j: isize| {
+                            request.value_of(grid, v, [i as usize, j as usize, k])
+                        };
+                        let joined = |a: (isize, isize), b: (isize, isize)| {
+                            let at = |c: (isize, isize), di, dj| {
+                                depth(c.0 as usize, c.1 as usize, di, dj).to_bits()
+                            };
+                            if b.0 > a.0 {
+                                at(a, 1, 0) == at(b, 0, 0) && at(a, 1, 1) == at(b, 0, 1)
+                            } else {
+                                at(a, 0, 1) == at(b, 0, 0) && at(a, 1, 1) == at(b, 1, 0)
+                            }
+                        };
+                        mesh.scalars.push(node_value(
+                            [pi as isize, pj as isize],
+                            &members,
+                            &is_kept,
+                            &joined,
+                            &value,
+                        ));
                     }
                 }
                 corner_vertex[corner_at(i, j, di, dj)] = vertex_of_group[g];
@@ -485,6 +497,119 @@ fn one_layer(
         }
     }
     Ok(mesh)
+}
+
+/// The value at node `(pi, pj)` of the side of a layer surface whose cells around it
+/// are `members` (one to four of the cells touching it, on one side of any fault).
+/// With four, their average. With fewer (the node on an outline, at a hole or an
+/// inactive cell, or on a fault), a plane through the members and, where they do
+/// not fix one, the cells that continue them away from the node (the next row beyond
+/// a pair, the 2 x 2 block beyond a lone cell; each reached across an edge whose
+/// corners are `joined`, no fault between), least squares on their centres, taken
+/// at the node: an average of fewer cells would take the field half a cell inward,
+/// and the isolines of a border cell off by as much. The cells nearest the node only,
+/// so that a curved field is no more biased than by the four-cell average inside.
+/// Where no plane is fixed (a lone strip of cells), the members' average.
+fn node_value(
+    [pi, pj]: [isize; 2],
+    members: &[(isize, isize)],
+    is_kept: &dyn Fn(isize, isize) -> bool,
+    joined: &dyn Fn((isize, isize), (isize, isize)) -> bool,
+    value: &dyn Fn(isize, isize) -> f32,
+) -> f32 {
+    let (sum, count) = members
+        .iter()
+        .map(|&(i, j)| value(i, j))
+        .filter(|x| !x.is_nan())
+        .fold((0f64, 0u32), |(s, c), x| (s + f64::from(x), c + 1));
+    let average = if count == 0 {
+        f32::NAN
+    } else {
+        (sum / f64::from(count)) as f32
+    };
+    if members.len() == 4 || count == 0 {
+        return average;
+    }
+    // Away from the node, per axis, for a cell touching it.
+    let away = |(i, j): (isize, isize)| (if i < pi { -1 } else { 1 }, if j < pj { -1 } else { 1 });
+    let mut cells: Vec<(isize, isize)> = members.to_vec();
+    let extend = |cells: &mut Vec<(isize, isize)>, from: (isize, isize), to: (isize, isize)| {
+        let (a, b) = if to.0 + to.1 > from.0 + from.1 {
+            (from, to)
+        } else {
+            (to, from)
+        };
+        if cells.contains(&from) && !cells.contains(&to) && is_kept(to.0, to.1) && joined(a, b) {
+            cells.push(to);
+        }
+    };
+    match members {
+        [a, b] => {
+            // A pair along a row continues in the next row away, along a column in the
+            // next column.
+            for &m in [a, b] {
+                let (di, dj) = away(m);
+                let next = if a.1 == b.1 {
+                    (m.0, m.1 + dj)
+                } else {
+                    (m.0 + di, m.1)
+                };
+                extend(&mut cells, m, next);
+            }
+        }
+        [m] => {
+            let (di, dj) = away(*m);
+            let (across, up, beyond) = ((m.0 + di, m.1), (m.0, m.1 + dj), (m.0 + di, m.1 + dj));
+            extend(&mut cells, *m, across);
+            extend(&mut cells, *m, up);
+            extend(&mut cells, across, beyond);
+            extend(&mut cells, up, beyond);
+        }
+        _ => {}
+    }
+    // Least squares plane a + b x + c y on the cell centres, relative to the node.
+    let mut normal = [[0f64; 3]; 3];
+    let mut rhs = [0f64; 3];
+    for &(i, j) in &cells {
+        let f = value(i, j);
+        if f.is_nan() {
+            continue;
+        }
+        let row = [1.0, i as f64 + 0.5 - pi as f64, j as f64 + 0.5 - pj as f64];
+        for r in 0..3 {
+            for c in 0..3 {
+                normal[r][c] += row[r] * row[c];
+            }
+            rhs[r] += row[r] * f64::from(f);
+        }
+    }
+    match solve3(normal, rhs) {
+        Some([a, _, _]) => a as f32,
+        None => average,
+    }
+}
+
+/// The solution of the 3 x 3 system `m x = rhs` (Cramer's rule), `None` where `m` is
+/// near singular (points in a line, or fewer than three).
+fn solve3(m: [[f64; 3]; 3], rhs: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(m);
+    let scale = m.iter().flatten().fold(0f64, |s, v| s.max(v.abs()));
+    // (NaN fails too.)
+    if d.abs().partial_cmp(&(1e-9 * scale.powi(3))) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    Some(std::array::from_fn(|col| {
+        let mut mc = m;
+        for r in 0..3 {
+            mc[r][col] = rhs[r];
+        }
+        det(mc) / d
+    }))
 }
 
 /// The layer surfaces (top or bottom faces, `face`) of what `request` asks for,

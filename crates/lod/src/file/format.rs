@@ -31,8 +31,8 @@ pub(super) struct Header {
     pub(super) layers_offset: u64,
     pub(super) nodes_offset: u64,
     /// Smallest and largest finite value of the property over the active cells (NaN
-    /// without a property): vertex scalars are averages over cells, so only this
-    /// gives the colour map the range `strata render` gives it.
+    /// without a property): vertex scalars are averages over cells (extrapolated at
+    /// borders), so only this gives the colour map the range `strata render` gives it.
     pub(super) scalar_range: [f32; 2],
     /// With [`STRAY_CORNERS`], the box of the model's corners but the stray ones
     /// (`CornerPointGrid::stray_corners`), least then greatest corner, in the display
