@@ -784,14 +784,24 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
     // Without legends: a hierarchy's names its property "stored property", so the
     // two pictures' legends differ.
     for iso in [&[][..], &["--iso"][..]] {
-        let mut options = vec!["--sides", "--no-legend"];
+        // A hierarchy draws the fault traces of its stack's top and bottom only (those
+        // between show at rims and walls and would multiply the cost by the layers):
+        // compared without them here, and on their own below.
+        let mut options = vec!["--sides", "--no-legend", "--fault-thickness", "0"];
         options.extend_from_slice(iso);
         options.extend_from_slice(&full);
         let (printed, viewed) = view_lod(lod_s, &png("view"), "400x300", &options);
         assert!(printed.contains("(100.0 %)"), "{printed}");
         let rendered_options: Vec<&str> = match iso {
-            [] => vec!["--sides", "--no-legend"],
-            _ => vec!["--sides", "--iso", "PORO", "--no-legend"],
+            [] => vec!["--sides", "--no-legend", "--fault-thickness", "0"],
+            _ => vec![
+                "--sides",
+                "--iso",
+                "PORO",
+                "--no-legend",
+                "--fault-thickness",
+                "0",
+            ],
         };
         let rendered = render_sample(&png("render"), "400x300", &rendered_options);
         // "render.png: N triangles" against the view's "K nodes, L of L
@@ -814,7 +824,7 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
             "{side_triangles:?} of {all_sides:?} side triangles drawn"
         );
         let (model, ..) = measure(&picture("render"));
-        let plain_options = [iso, &full[..], &["--no-legend"]].concat();
+        let plain_options = [iso, &full[..], &["--no-legend", "--fault-thickness", "0"]].concat();
         let (_, plain) = view_lod(lod_s, &png("plain"), "400x300", &plain_options);
         let (with, without) = (
             differ(&viewed, &picture("render")),
@@ -838,7 +848,14 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
         assert!(with <= allowed, "{with} pixels differ from render --sides");
     }
     // A layer range: those layers' sides only, as `render --layers` draws them.
-    let range = ["--sides", "--layers", "3..5", "--no-legend"];
+    let range = [
+        "--sides",
+        "--layers",
+        "3..5",
+        "--no-legend",
+        "--fault-thickness",
+        "0",
+    ];
     let range_full = [&range[..], &full[..]].concat();
     let (printed, viewed) = view_lod(lod_s, &png("range"), "400x300", &range_full);
     render_sample(&png("render_range"), "400x300", &range);
@@ -854,6 +871,28 @@ fn the_hierarchy_view_draws_the_side_faces_as_render_does() {
     assert!(
         off <= model / 200,
         "{off} pixels differ from render --layers 3..5 --sides"
+    );
+    // The fault traces of the stack's top and bottom, stored at full resolution, are
+    // drawn where render draws them (render draws those between too).
+    let traced = [&range[..4], &full[..]].concat();
+    view_lod(lod_s, &png("traced"), "400x300", &traced);
+    render_sample(&png("render_traced"), "400x300", &range[..4]);
+    let red =
+        |p: &image::Rgba<u8>| p[0] > p[1].saturating_add(60) && p[0] > p[2].saturating_add(60);
+    let (traced, rendered) = (picture("traced"), picture("render_traced"));
+    let ours = traced.pixels().filter(|p| red(p)).count();
+    let theirs = rendered.pixels().filter(|p| red(p)).count();
+    let shared = traced
+        .pixels()
+        .zip(rendered.pixels())
+        .filter(|(a, b)| red(a) && red(b))
+        .count();
+    eprintln!(
+        "fault trace pixels, layers 3..5: {ours} in the view, {theirs} in render, {shared} in both"
+    );
+    assert!(
+        ours > 100 && shared as f64 >= 0.95 * ours as f64,
+        "fault trace pixels, layers 3..5: {ours} in the view, {theirs} in render, {shared} in both"
     );
     // Without a property the sides take the solid colour.
     let plain = dir.path().join("plain.lod");

@@ -13,7 +13,8 @@ use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
 use strata_render::wire::Drawable;
 use strata_render::{
-    Camera, CellDraw, IsolineOptions, Isolines, Output, RangeAdjust, Renderer, TiledCells, WireMode,
+    Camera, CellDraw, IsolineOptions, Isolines, Output, RangeAdjust, Renderer, TiledCells, View,
+    WireMode,
 };
 
 use super::pick::{Pick, Ray, global_column};
@@ -41,10 +42,42 @@ pub struct Hierarchy {
     wire: WireMode,
     /// The nodes the last frame drew, which picking looks through.
     last_chosen: Mutex<Vec<u32>>,
-    /// The drawn layers' fault traces, stored at full resolution, once uploaded
-    /// (`None` inside where there are none).
-    traces: Option<Option<Box<dyn Drawable>>>,
+    /// The drawn layers' fault traces, stored at full resolution, read on the first
+    /// frame, and their levels of detail as uploaded.
+    traces: Option<TraceLevels>,
 }
+
+/// The fault traces of the top and bottom surfaces drawn, at levels of detail, in
+/// tiles: a far view sees a cell edge as a fraction of a pixel, and drawing every
+/// trace (hundreds of thousands on a large model) would cost more than the surfaces. Each frame draws the tiles in
+/// the picture, each at the coarsest level its nearest point allows: level `l` joins
+/// the tile's traces into chains simplified within `TRACE_TOLERANCES[l]` cells.
+struct TraceLevels {
+    tiles: Vec<TraceTile>,
+    /// The vertical exaggeration the levels are simplified for.
+    z_scale: f32,
+    /// A cell's size, display units.
+    cell: f32,
+    /// The last frame's choice and its upload.
+    drawn: Option<(TraceChoice, Option<Box<dyn Drawable>>)>,
+}
+
+/// The tiles a frame draws traces of, each with its level.
+type TraceChoice = Vec<(usize, usize)>;
+
+/// The traces whose midpoints fall in one tile of the model's map box.
+struct TraceTile {
+    /// Box of the tile's traces (unscaled display frame).
+    bounds: (Vec3, Vec3),
+    /// Per level, once simplified.
+    levels: Vec<Option<Vec<strata_grid::faults::Segment>>>,
+}
+
+/// Tiles on a side of the model's map box.
+const TRACE_TILES: usize = 16;
+
+/// The tolerances of the trace levels, in cells (0: the traces as stored).
+const TRACE_TOLERANCES: [f32; 6] = [0.0, 1.0, 4.0, 16.0, 64.0, 256.0];
 
 /// What a frame of a hierarchy draws: its camera, the nodes chosen, the side faces
 /// in view, and the choice in words.
@@ -313,14 +346,24 @@ impl Hierarchy {
         scene: &Scene,
         output: Output,
     ) -> Result<(Option<RgbaImage>, FrameReport)> {
-        if self.traces.is_none() {
-            let segments: Vec<_> = (self.drawn.iter().enumerate())
-                .filter(|(_, drawn)| **drawn)
-                .flat_map(|(l, _)| self.file.layer_faults(l).iter().copied())
-                .collect();
-            let traces =
-                (renderer.prepare_fault_traces(&segments)).context("preparing the fault traces")?;
-            self.traces = Some(traces);
+        let z_scale = scene.camera.z_scale;
+        if self.traces.as_ref().is_none_or(|t| t.z_scale != z_scale) {
+            // The outer surfaces of the stack drawn, its top and its bottom: those
+            // between show only at its rims and fault walls, and would multiply the
+            // cost by the layers.
+            let drawn: Vec<usize> = (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect();
+            let outer = [drawn.first(), drawn.last()];
+            let segments = (0..self.drawn.len())
+                .filter(|l| outer.contains(&Some(l)))
+                .flat_map(|l| self.file.layer_faults(l).iter().copied());
+            let [ni, nj] = self.file.dims().map(|n| n.max(1) as f32);
+            let (lo, hi) = self.bounds;
+            self.traces = Some(TraceLevels {
+                tiles: trace_tiles(segments, self.bounds),
+                z_scale,
+                cell: ((hi.x - lo.x) / ni).min((hi.y - lo.y) / nj).max(0.0),
+                drawn: None,
+            });
         }
         let Plan {
             camera,
@@ -417,10 +460,13 @@ impl Hierarchy {
         if let Ok(mut last) = self.last_chosen.lock() {
             last.clone_from(&chosen);
         }
-        // Fault traces last, over the surfaces they lie on; none where no node covers a
-        // pixel (their width is in pixels: they would draw a model too small to see).
-        let traces =
-            (self.traces.as_ref().and_then(Option::as_deref)).filter(|_| !chosen.is_empty());
+        // Fault traces last, over the surfaces they lie on, at the level the nearest
+        // part of the model needs; none where no node covers a pixel (their width is in
+        // pixels: they would draw a model too small to see).
+        let traces = match &mut self.traces {
+            Some(levels) if !chosen.is_empty() => levels.drawable(renderer, &view, scene)?,
+            _ => None,
+        };
         let drawables: Vec<&dyn Drawable> = drawable
             .as_deref()
             .into_iter()
@@ -634,4 +680,98 @@ fn drawn_values<'f>(file: &'f LodFile, drawn: &'f [bool]) -> impl Iterator<Item 
                 .filter(|(c, _)| faces[c / 32] >> (c % 32) & 1 != 0)
                 .map(|(_, v)| *v)
         })
+}
+
+impl TraceLevels {
+    /// The traces of the tiles in `view`'s picture, each at the coarsest level within
+    /// `scene`'s pixel error at its nearest point (as stored at a pixel error of 0),
+    /// uploaded when the choice changes.
+    fn drawable(
+        &mut self,
+        renderer: &mut Renderer,
+        view: &View,
+        scene: &Scene,
+    ) -> Result<Option<&dyn Drawable>> {
+        let pixels = match scene.lod {
+            Lod::Hierarchy { pixels, .. } => pixels,
+            _ => 0.0,
+        };
+        let camera = &view.camera;
+        let frustum = camera.frustum(view.width as f32 / view.height.max(1) as f32);
+        let scale = Vec3::new(1.0, 1.0, camera.z_scale);
+        let focal = view.height.max(1) as f32 / (2.0 * (0.5 * camera.fov_y_deg.to_radians()).tan());
+        let mut choice = Vec::new();
+        for (t, tile) in self.tiles.iter().enumerate() {
+            let (a, b) = (tile.bounds.0 * scale, tile.bounds.1 * scale);
+            let (lo, hi) = (a.min(b), a.max(b));
+            let outside = frustum.iter().any(|p| {
+                let far = Vec3::new(
+                    if p[0] >= 0.0 { hi.x } else { lo.x },
+                    if p[1] >= 0.0 { hi.y } else { lo.y },
+                    if p[2] >= 0.0 { hi.z } else { lo.z },
+                );
+                p[0] * far.x + p[1] * far.y + p[2] * far.z + p[3] < 0.0
+            });
+            if outside {
+                continue;
+            }
+            let allowed = pixels * camera.eye.clamp(lo, hi).distance(camera.eye) / focal;
+            let level = (0..TRACE_TOLERANCES.len())
+                .rev()
+                .find(|&l| TRACE_TOLERANCES[l] * self.cell <= allowed)
+                .unwrap_or(0);
+            choice.push((t, level));
+        }
+        if self
+            .drawn
+            .as_ref()
+            .is_none_or(|(drawn, _)| *drawn != choice)
+        {
+            let mut segments = Vec::new();
+            for &(t, level) in &choice {
+                let tile = &mut self.tiles[t];
+                if tile.levels[level].is_none() {
+                    let raw = tile.levels[0].as_deref().unwrap_or_default();
+                    let tolerance = TRACE_TOLERANCES[level] * self.cell;
+                    let simplified =
+                        strata_grid::faults::simplified_traces(raw, tolerance, self.z_scale);
+                    tile.levels[level] = Some(simplified);
+                }
+                segments.extend_from_slice(tile.levels[level].as_deref().unwrap_or_default());
+            }
+            let prepared =
+                (renderer.prepare_fault_traces(&segments)).context("preparing the fault traces")?;
+            self.drawn = Some((choice, prepared));
+        }
+        Ok(self.drawn.as_ref().and_then(|(_, d)| d.as_deref()))
+    }
+}
+
+/// `segments` in [`TRACE_TILES`] x [`TRACE_TILES`] tiles of the map box of `bounds`
+/// (by their midpoints), each with its box; empty tiles left out.
+fn trace_tiles(
+    segments: impl Iterator<Item = strata_grid::faults::Segment>,
+    (lo, hi): (Vec3, Vec3),
+) -> Vec<TraceTile> {
+    let n = TRACE_TILES;
+    let mut tiles: Vec<Vec<strata_grid::faults::Segment>> = vec![Vec::new(); n * n];
+    let size = (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
+    for s in segments {
+        let mid = (Vec3::from(s[0]) + Vec3::from(s[1])) * 0.5;
+        let at = |v: f32, lo: f32, size: f32| ((((v - lo) / size) * n as f32) as usize).min(n - 1);
+        tiles[at(mid.y, lo.y, size.y) * n + at(mid.x, lo.x, size.x)].push(s);
+    }
+    tiles
+        .into_iter()
+        .filter(|t| !t.is_empty())
+        .map(|segments| {
+            let points = segments.iter().flatten().map(|&p| Vec3::from(p));
+            let bounds = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
+                (a.min(p), b.max(p))
+            });
+            let mut levels = vec![None; TRACE_TOLERANCES.len()];
+            levels[0] = Some(segments);
+            TraceTile { bounds, levels }
+        })
+        .collect()
 }

@@ -141,6 +141,104 @@ impl Surface<'_> {
     }
 }
 
+/// `segments` joined into chains where they meet end to end (at points where exactly
+/// two meet) and each chain simplified (Douglas-Peucker) so that no point of it moves
+/// more than `tolerance` (with heights counted `z_scale` times): the traces a view
+/// that sees a cell as a fraction of a pixel draws, a few segments a fault instead of
+/// one a cell edge. A tolerance of 0 gives the segments back as they are.
+pub fn simplified_traces(segments: &[Segment], tolerance: f32, z_scale: f32) -> Vec<Segment> {
+    if tolerance <= 0.0 {
+        return segments.to_vec();
+    }
+    let key = |p: [f32; 3]| p.map(f32::to_bits);
+    let mut ends: std::collections::HashMap<[u32; 3], Vec<usize>> =
+        std::collections::HashMap::with_capacity(2 * segments.len());
+    for (n, s) in segments.iter().enumerate() {
+        for p in s {
+            ends.entry(key(*p)).or_default().push(n);
+        }
+    }
+    // The other segment at point `p` of a chain through it, where exactly two meet.
+    let onward = |p: [f32; 3], from: usize| match ends.get(&key(p)).map(Vec::as_slice) {
+        Some(&[a, b]) if a != b => Some(if a == from { b } else { a }),
+        _ => None,
+    };
+    let mut used = vec![false; segments.len()];
+    let mut out = Vec::new();
+    for start in 0..segments.len() {
+        if used[start] {
+            continue;
+        }
+        used[start] = true;
+        let [a, b] = segments[start];
+        // Walk on from each end, then join the two halves at the start.
+        let mut halves = [vec![a], vec![b]];
+        for (half, mut at) in halves.iter_mut().zip([a, b]) {
+            let mut from = start;
+            while let Some(next) = onward(at, from).filter(|&n| !used[n]) {
+                used[next] = true;
+                let [p, q] = segments[next];
+                at = if key(p) == key(at) { q } else { p };
+                half.push(at);
+                from = next;
+            }
+        }
+        let [mut back, forth] = halves;
+        back.reverse();
+        back.extend(forth);
+        let kept = douglas_peucker(&back, tolerance, z_scale);
+        out.extend(kept.windows(2).map(|w| [w[0], w[1]]));
+    }
+    out
+}
+
+/// The points of `line` Douglas-Peucker keeps at `tolerance`, heights counted
+/// `z_scale` times.
+fn douglas_peucker(line: &[[f32; 3]], tolerance: f32, z_scale: f32) -> Vec<[f32; 3]> {
+    let scaled = |p: [f32; 3]| [p[0], p[1], p[2] * z_scale];
+    let mut keep = vec![false; line.len()];
+    if let (Some(first), Some(last)) = (keep.first_mut(), line.len().checked_sub(1)) {
+        *first = true;
+        keep[last] = true;
+    }
+    let mut stack = vec![(0, line.len().saturating_sub(1))];
+    while let Some((i, j)) = stack.pop() {
+        if j <= i + 1 {
+            continue;
+        }
+        let (a, b) = (scaled(line[i]), scaled(line[j]));
+        let (far, distance) = (i + 1..j)
+            .map(|k| (k, point_line_distance(scaled(line[k]), a, b)))
+            .fold((i, -1.0f32), |best, c| if c.1 > best.1 { c } else { best });
+        if distance > tolerance {
+            keep[far] = true;
+            stack.push((i, far));
+            stack.push((far, j));
+        }
+    }
+    line.iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
+/// Distance from `p` to the segment `a`-`b`.
+fn point_line_distance(p: [f32; 3], a: [f32; 3], b: [f32; 3]) -> f32 {
+    let d: [f32; 3] = std::array::from_fn(|k| b[k] - a[k]);
+    let w: [f32; 3] = std::array::from_fn(|k| p[k] - a[k]);
+    let dd: f32 = d.iter().map(|v| v * v).sum();
+    let t = if dd > 0.0 {
+        (w.iter().zip(&d).map(|(x, y)| x * y).sum::<f32>() / dd).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (0..3)
+        .map(|k| (w[k] - t * d[k]).powi(2))
+        .sum::<f32>()
+        .sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -208,5 +306,42 @@ mod tests {
         let mut two = split(5.0);
         two.append(&split(5.0));
         assert_eq!(fault_traces(&two).len(), 16);
+    }
+
+    #[test]
+    fn simplified_traces_join_a_fault_into_few_segments_within_the_tolerance() {
+        // A fault of 40 cell edges along a gentle curve, both sides, and one lone
+        // segment elsewhere.
+        let side = |z: f32| -> Vec<Segment> {
+            (0..40)
+                .map(|n| {
+                    let at = |n: usize| {
+                        let x = 10.0 * n as f32;
+                        [x, 0.002 * x * x, z]
+                    };
+                    [at(n), at(n + 1)]
+                })
+                .collect()
+        };
+        let mut traces = side(0.0);
+        traces.extend(side(-5.0));
+        traces.push([[0.0, 100.0, 0.0], [10.0, 100.0, 0.0]]);
+        assert_eq!(simplified_traces(&traces, 0.0, 5.0), traces);
+        let simplified = simplified_traces(&traces, 1.0, 5.0);
+        assert!(
+            simplified.len() <= traces.len() / 3,
+            "{} segments",
+            simplified.len()
+        );
+        // Every original point lies within the tolerance of the simplified lines.
+        for p in traces.iter().flatten() {
+            let nearest = simplified
+                .iter()
+                .map(|s| point_line_distance(*p, s[0], s[1]))
+                .fold(f32::INFINITY, f32::min);
+            assert!(nearest <= 1.0 + 1e-3, "{p:?} is {nearest} away");
+        }
+        // The two sides stay apart, and the lone segment stays.
+        assert!(simplified.contains(&[[0.0, 100.0, 0.0], [10.0, 100.0, 0.0]]));
     }
 }
