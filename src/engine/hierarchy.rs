@@ -22,7 +22,9 @@ use super::whole::technique;
 use super::{FrameReport, Note, look};
 use crate::error::Context;
 use crate::scene::{Lod, Scene};
-use crate::surfaces::{colour_range, corner_field, faces_in_view, first_face_centre, framed_box};
+use crate::surfaces::{
+    box_outside_view, colour_range, corner_field, faces_in_view, first_face_centre, framed_box,
+};
 use crate::{Error, Result};
 
 /// An open hierarchy and what every frame of a scene of it shares.
@@ -697,24 +699,17 @@ impl TraceLevels {
             _ => 0.0,
         };
         let camera = &view.camera;
-        let frustum = camera.frustum(view.width as f32 / view.height.max(1) as f32);
+        let aspect = view.width as f32 / view.height.max(1) as f32;
         let scale = Vec3::new(1.0, 1.0, camera.z_scale);
         let focal = view.height.max(1) as f32 / (2.0 * (0.5 * camera.fov_y_deg.to_radians()).tan());
         let mut choice = Vec::new();
         for (t, tile) in self.tiles.iter().enumerate() {
-            let (a, b) = (tile.bounds.0 * scale, tile.bounds.1 * scale);
-            let (lo, hi) = (a.min(b), a.max(b));
-            let outside = frustum.iter().any(|p| {
-                let far = Vec3::new(
-                    if p[0] >= 0.0 { hi.x } else { lo.x },
-                    if p[1] >= 0.0 { hi.y } else { lo.y },
-                    if p[2] >= 0.0 { hi.z } else { lo.z },
-                );
-                p[0] * far.x + p[1] * far.y + p[2] * far.z + p[3] < 0.0
-            });
-            if outside {
+            let unscaled = (tile.bounds.0.to_array(), tile.bounds.1.to_array());
+            if box_outside_view(unscaled, camera, aspect) {
                 continue;
             }
+            let (a, b) = (tile.bounds.0 * scale, tile.bounds.1 * scale);
+            let (lo, hi) = (a.min(b), a.max(b));
             let allowed = pixels * camera.eye.clamp(lo, hi).distance(camera.eye) / focal;
             let level = (0..TRACE_TOLERANCES.len())
                 .rev()

@@ -150,12 +150,10 @@ fn shade_iso(in: IsoOut, wire: bool) -> vec4<f32> {
     let dv = dpdy(in.uv);
     let a = depth_fraction(in.wp);
     // The cell lines as (minor, major), major lines in their own colour as the
-    // wireframe techniques draw them (cell_lines).
+    // wireframe techniques draw them.
     var cov = vec2<f32>(0.0);
     if wire {
-        let cu = cell_lines(in.uv.x, length(vec2<f32>(du.x, dv.x)), a);
-        let cv = cell_lines(in.uv.y, length(vec2<f32>(du.y, dv.y)), a);
-        cov = vec2<f32>(union2(cu.x, cv.x), union2(cu.y, cv.y));
+        cov = global_cells(in.uv, du, dv, a);
     }
     // The texture is sampled as the paper samples it: never finer than its level 0
     // (two texels per pixel, see wire_texture.rs), so where the coordinate changes

@@ -221,6 +221,14 @@ fn cell_lines(x: f32, grad: f32, a: f32) -> vec2<f32> {
     return select(vec2<f32>(w, 0.0), vec2<f32>(0.0, w), rank > 0.5);
 }
 
+// The global wireframe's coverage as (minor, major) at global coordinates `uv`, whose
+// screen derivatives are `du` and `dv`: both line families of cell_lines, united.
+fn global_cells(uv: vec2<f32>, du: vec2<f32>, dv: vec2<f32>, a: f32) -> vec2<f32> {
+    let cu = cell_lines(uv.x, length(vec2<f32>(du.x, dv.x)), a);
+    let cv = cell_lines(uv.y, length(vec2<f32>(du.y, dv.y)), a);
+    return vec2<f32>(union2(cu.x, cv.x), union2(cu.y, cv.y));
+}
+
 // The wire of the techniques with coordinates of their own (quad, tex, texgs), as
 // (minor, major): `local` is their coverage of the cell edges. With major lines, those
 // come from the global coordinates `uv` (cell_lines) and `local` draws the others,

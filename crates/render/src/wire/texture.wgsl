@@ -91,9 +91,7 @@ fn uv_colour(in: UvOut, colour_scalar: f32, iso: f32, wire: bool) -> vec4<f32> {
     let a = depth_fraction(in.wp);
     var cov = vec2<f32>(0.0);
     if wire {
-        let cu = cell_lines(in.uv.x, grad_len(du.x, dv.x), a);
-        let cv = cell_lines(in.uv.y, grad_len(du.y, dv.y), a);
-        cov = vec2<f32>(union2(cu.x, cv.x), union2(cu.y, cv.y));
+        cov = global_cells(in.uv, du, dv, a);
     }
     let base = base_color(colour_scalar);
     let extra = extra_lines(in.wp, iso, a);
