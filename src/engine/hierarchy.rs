@@ -253,6 +253,7 @@ impl Hierarchy {
         let aspect = look::aspect(scene);
         let framed = file.framed();
         // Nodes out of the picture are left out; framing looks at the whole model.
+        let inner = self.inner_surfaces();
         let choose = |camera: &Camera, pixels: f32, culled: bool| -> Vec<u32> {
             let point = ViewPoint {
                 eye: camera.eye.to_array(),
@@ -261,7 +262,8 @@ impl Hierarchy {
                 height_px: scene.size[1],
                 frustum: culled.then(|| camera.frustum(aspect)),
             };
-            file.select(&point, pixels)
+            let inner: &[bool] = if culled { &inner } else { &[] };
+            file.select_exposed(&point, pixels, inner)
                 .into_iter()
                 .filter(|&i| self.drawn[file.nodes()[i as usize].layer as usize])
                 .collect()
@@ -301,6 +303,20 @@ impl Hierarchy {
         })
     }
 
+    /// Per layer surface of the file, whether it lies inside the stack drawn: drawn,
+    /// neither its top nor its bottom, and closed by side faces. Only the faces of
+    /// those that the layers above and below leave open can be seen.
+    fn inner_surfaces(&self) -> Vec<bool> {
+        let drawn: Vec<usize> = (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect();
+        let mut inner = vec![false; self.drawn.len()];
+        if self.sides.is_some() && drawn.len() > 2 {
+            for &l in &drawn[1..drawn.len() - 1] {
+                inner[l] = true;
+            }
+        }
+        inner
+    }
+
     /// The nodes `chosen` at `pixels` of error, in words: how many of the drawn
     /// layers' full-resolution triangles, and per level.
     fn describe(&self, chosen: &[u32], pixels: f32, seconds: f64) -> Vec<Note> {
@@ -320,13 +336,18 @@ impl Hierarchy {
             .sum();
         let drawn_triangles: usize = per_level.values().map(|v| v.1).sum();
         let mut notes = vec![Note::Info(format!(
-            "{}: {} nodes; {} of {} layer surfaces drawn; at most {} px from this view: {} \
+            "{}: {} nodes; {} of {} layer surfaces drawn{}; at most {} px from this view: {} \
              nodes, {drawn_triangles} of {all} full-resolution triangles ({:.1} %), chosen in \
              {:.3} s",
             self.path.display(),
             file.nodes().len(),
             self.roots.len(),
             file.layers().len(),
+            if self.inner_surfaces().contains(&true) {
+                " (their inner faces hidden by the sides left out)"
+            } else {
+                ""
+            },
             pixels,
             chosen.len(),
             100.0 * drawn_triangles as f64 / all.max(1) as f64,

@@ -1155,3 +1155,73 @@ fn each_layer_surfaces_fault_traces_are_stored_as_found_at_full_resolution() {
     let file = LodFile::open(&path).unwrap();
     assert!((0..file.layers().len()).all(|l| file.layer_faults(l).is_empty()));
 }
+
+/// Each node counts the faces of its cells that the layers above and below leave
+/// open, and a choice among the inner surfaces of a closed stack keeps only nodes
+/// with such faces, so nothing that shows is left out.
+#[test]
+fn nodes_count_the_faces_a_closed_stack_exposes() {
+    // A pinched-out middle layer in the west, an inactive ellipse through all layers
+    // and an inactive strip in the top layer.
+    let grid = generate(&SynthParams {
+        nx: 30,
+        ny: 20,
+        nz: 5,
+        faults: 2,
+        seed: 5,
+    })
+    .unwrap();
+    let (_dir, file) = saved(&grid, 4);
+    let has = |i: u32, j: u32, k: i64| {
+        (0..5).contains(&k) && strata_grid::has_faces(&grid, i as usize, j as usize, k as usize)
+    };
+    let exposed = |n: &NodeRecord| {
+        let layer = &file.layers()[n.layer as usize];
+        let k = i64::from(layer.k);
+        let mut count = 0;
+        for j in n.cells[1]..n.cells[3] {
+            for i in n.cells[0]..n.cells[2] {
+                let open = layer.face == 1
+                    || k == 0
+                    || !has(i, j, k - 1)
+                    || (k + 1 < 5 && !has(i, j, k + 1));
+                count += u32::from(has(i, j, k) && open);
+            }
+        }
+        count
+    };
+    for n in file.nodes() {
+        assert_eq!(n.exposed, exposed(n), "{n:?}");
+    }
+    // Of the inner surfaces (the tops of layers 2 to 5), only those around the
+    // pinch-out and under the strip expose faces: the pinched layer's faces in the
+    // east are covered on both sides, the last layer's by its own bottom.
+    let inner_exposed: Vec<u32> = file.layers()[1..5]
+        .iter()
+        .map(|l| file.nodes()[l.root as usize].exposed)
+        .collect();
+    assert!(
+        inner_exposed[0] > 0 && inner_exposed[2] > 0,
+        "{inner_exposed:?}"
+    );
+    assert_eq!([inner_exposed[1], inner_exposed[3]], [0, 0]);
+
+    let view = ViewPoint {
+        eye: [0.0, 0.0, 1e4],
+        z_scale: 1.0,
+        fov_y_deg: 30.0,
+        height_px: 600,
+        frustum: None,
+    };
+    let inner: Vec<bool> = (0..file.layers().len())
+        .map(|l| l > 0 && l + 1 < file.layers().len())
+        .collect();
+    let all = file.select(&view, 0.0);
+    let shown = file.select_exposed(&view, 0.0, &inner);
+    assert!(shown.len() < all.len(), "{} of {}", shown.len(), all.len());
+    for &i in &all {
+        let n = &file.nodes()[i as usize];
+        let kept = shown.contains(&i);
+        assert_eq!(kept, !inner[n.layer as usize] || n.exposed > 0, "{n:?}");
+    }
+}

@@ -7,7 +7,8 @@ use std::time::Instant;
 use rayon::prelude::*;
 use strata_grid::faults::{Segment, fault_traces};
 use strata_grid::{
-    CellFace, CornerPointGrid, Face, SurfaceMesh, Surfaces, layer_surfaces, side_surfaces,
+    CellFace, CornerPointGrid, Face, SurfaceMesh, Surfaces, has_faces, layer_surfaces,
+    side_surfaces,
 };
 
 use super::writer::{LayerCells, StoredNode, StoredTree, Writer};
@@ -131,7 +132,8 @@ pub fn build_file(
                 let faults = fault_traces(&mesh);
                 // The tree needs no cell faces: 24 bytes a cell less while it is built.
                 mesh.cell_faces = Vec::new();
-                let tree = build_layer_with(&mesh, dims, options, &built, &StoredNode::of)?;
+                let mut tree = build_layer_with(&mesh, dims, options, &built, &StoredNode::of)?;
+                count_exposed(&mut tree, &ExposedFaces::of(grid, k, face));
                 Ok(BuiltSurface {
                     input_triangles: mesh.triangle_count(),
                     k,
@@ -175,6 +177,55 @@ pub fn build_file(
     report.bytes = writer.finish(origin, dims, options.tile_cells, scalar_range, framed)?;
     report.seconds = start.elapsed().as_secs_f64();
     Ok(report)
+}
+
+/// A layer surface's faces that its closed stack may show, counted over the (i, j)
+/// domain so that any block of cells has its count at once: a summed-area table.
+struct ExposedFaces {
+    nx: usize,
+    /// `(nx + 1) (ny + 1)` partial sums: row `j`, column `i` holds the exposed faces
+    /// of the cells before `i` in the rows before `j`.
+    sums: Vec<u32>,
+}
+
+impl ExposedFaces {
+    /// The faces of grid layer `k`'s surface `face` not covered by a face of the layer
+    /// above or below in the same column: with side faces drawn, the others are
+    /// inside the stack, seen from nowhere outside it. The bottom surface and the top
+    /// of the first layer stand for the stack's outside: all their faces count.
+    fn of(grid: &CornerPointGrid, k: usize, face: Face) -> Self {
+        let d = grid.dims();
+        let has = |i: usize, j: usize, k: usize| has_faces(grid, i, j, k);
+        let exposed = |i: usize, j: usize| {
+            has(i, j, k)
+                && match face {
+                    Face::Bottom => true,
+                    Face::Top => k == 0 || !has(i, j, k - 1) || (k + 1 < d.nz && !has(i, j, k + 1)),
+                }
+        };
+        let mut sums = vec![0u32; (d.nx + 1) * (d.ny + 1)];
+        for j in 0..d.ny {
+            let mut row = 0;
+            for i in 0..d.nx {
+                row += u32::from(exposed(i, j));
+                sums[(j + 1) * (d.nx + 1) + i + 1] = sums[j * (d.nx + 1) + i + 1] + row;
+            }
+        }
+        ExposedFaces { nx: d.nx, sums }
+    }
+
+    /// Exposed faces of the cells `i0..i1` by `j0..j1`.
+    fn within(&self, [i0, j0, i1, j1]: [u32; 4]) -> u32 {
+        let at = |i: u32, j: u32| self.sums[j as usize * (self.nx + 1) + i as usize];
+        at(i1, j1) + at(i0, j0) - at(i0, j1) - at(i1, j0)
+    }
+}
+
+/// Records in each node of `tree` how many of its cells' faces `exposed` counts.
+fn count_exposed(tree: &mut StoredTree, exposed: &ExposedFaces) {
+    for (node, _) in tree.iter_mut() {
+        node.record.exposed = exposed.within(node.record.cells);
+    }
 }
 
 /// `sides`, the side faces of grid layers in layer order, cut into one mesh per grid

@@ -7,8 +7,9 @@ use bytemuck::{Pod, Zeroable};
 /// and their values, which colour a selection cell by cell. 4: each grid layer's side
 /// faces. 5: side faces wound counter-clockwise seen from outside their cells, so a
 /// view leaves out those that turn their back to the eye. 6: the header ends with the
-/// box views frame. 7: each layer surface's fault traces.
-pub(super) const VERSION: u32 = 7;
+/// box views frame. 7: each layer surface's fault traces. 8: each node's exposed faces,
+/// which let a view leave out what a closed stack hides.
+pub(super) const VERSION: u32 = 8;
 
 /// Header flag: vertices carry a scalar (NaN otherwise).
 pub(super) const HAS_SCALARS: u32 = 1;
@@ -100,7 +101,10 @@ pub struct NodeRecord {
     pub data_offset: u64,
     /// 2 or 4 bytes.
     pub index_width: u32,
-    pub(super) _pad: u32,
+    /// Faces of the node's cells that the grid layers above and below do not cover
+    /// (where the cell above or below has no face): the only ones a closed stack
+    /// shows, when it is not the top or bottom of what is drawn.
+    pub exposed: u32,
 }
 
 /// Sizes of the records as stored.

@@ -62,6 +62,17 @@ impl LodFile {
     /// so every cell is drawn exactly once, except under nodes wholly outside the
     /// view's frustum, which are left out.
     pub fn select(&self, view: &ViewPoint, max_pixels: f32) -> Vec<u32> {
+        self.select_exposed(view, max_pixels, &[])
+    }
+
+    /// [`LodFile::select`], where the layer surfaces flagged in `inner` (indexed as
+    /// [`LodFile::layers`]; missing ones are not inner) lie inside a closed stack drawn
+    /// with its side faces: of those, only nodes with exposed faces
+    /// ([`NodeRecord::exposed`]) are chosen, and one whose cells are mostly hidden
+    /// gives way to its children, so that the hidden ones drop out. A stack of a
+    /// hundred layers seen close up would otherwise have each hidden layer fill the
+    /// picture only to be rejected by the depth test.
+    pub fn select_exposed(&self, view: &ViewPoint, max_pixels: f32, inner: &[bool]) -> Vec<u32> {
         let nodes = self.nodes();
         let zs = f64::from(view.z_scale);
         let eye = view.eye.map(f64::from);
@@ -77,6 +88,17 @@ impl LodFile {
             };
             if view.misses(widen(n.min, -1.0), widen(n.max, 1.0)) {
                 continue;
+            }
+            if inner.get(n.layer as usize).copied().unwrap_or(false) {
+                if n.exposed == 0 {
+                    continue;
+                }
+                let [i0, j0, i1, j1] = n.cells.map(u64::from);
+                let cells = i1.saturating_sub(i0) * j1.saturating_sub(j0);
+                if n.child_count > 0 && 2 * u64::from(n.exposed) < cells {
+                    stack.extend((n.first_child..n.first_child + n.child_count).rev());
+                    continue;
+                }
             }
             let error =
                 (f64::from(n.error[0]).powi(2) + (zs * f64::from(n.error[1])).powi(2)).sqrt();

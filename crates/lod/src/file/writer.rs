@@ -83,7 +83,7 @@ impl StoredNode {
                 index_count: 3 * mesh.triangle_count() as u32,
                 data_offset: 0,
                 index_width,
-                _pad: 0,
+                exposed: 0,
             },
             data,
         }
