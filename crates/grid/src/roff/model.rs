@@ -116,19 +116,32 @@ fn array<'r, T>(
     Ok(Some(v))
 }
 
-/// Strata's linear cell index of ROFF cell number `r`.
-fn ours(d: Dims, r: usize) -> usize {
-    let kr = r % d.nz;
-    let j = (r / d.nz) % d.ny;
-    let i = r / (d.nz * d.ny);
-    d.cell_index(i, j, d.nz - 1 - kr)
-}
+/// Cells along I taken together when reordering (see [`reorder`]): 64 one-byte
+/// values fill a cache line of the output.
+const CELL_BLOCK: usize = 64;
 
-/// Reorders per-cell values from ROFF order to strata's.
-pub(super) fn reorder<T: Copy>(d: Dims, values: &[T], fill: T) -> Vec<T> {
+/// Per-cell values from ROFF order (I slowest, K fastest from the bottom) to strata's
+/// (I fastest, K from the top), each mapped by `convert`. A block of I is taken J by
+/// J, so that the lines of the output the block writes stay in the cache until it
+/// has filled them, where a cell at a time would write one value per line of every
+/// layer. `values` holds one value per cell of `d` (the callers check its length).
+pub(super) fn reorder<T: Copy, U: Copy>(
+    d: Dims,
+    values: &[T],
+    fill: U,
+    convert: impl Fn(T) -> U,
+) -> Vec<U> {
     let mut out = vec![fill; values.len()];
-    for (r, &v) in values.iter().enumerate() {
-        out[ours(d, r)] = v;
+    let (nx, ny, nz) = (d.nx, d.ny, d.nz);
+    for i0 in (0..nx).step_by(CELL_BLOCK) {
+        for j in 0..ny {
+            for i in i0..(i0 + CELL_BLOCK).min(nx) {
+                let column = &values[(i * ny + j) * nz..][..nz];
+                for (kr, &v) in column.iter().enumerate() {
+                    out[d.cell_index(i, j, nz - 1 - kr)] = convert(v);
+                }
+            }
+        }
     }
     out
 }
@@ -177,7 +190,7 @@ pub fn grid(place: &Place, roff: &Roff, with_parameters: bool) -> Result<CornerP
             _ => None,
         },
     )?;
-    let actnum = active.map(|a| reorder(d, a, 0).into_iter().map(|b| b != 0).collect());
+    let actnum = active.map(|a| reorder(d, a, false, |b| b != 0));
     let mut grid = CornerPointGrid::from_arrays(d, coord, zcorn, actnum)
         .map_err(|e| place.error(0, "cornerLines", 0, e.to_string()))?;
     grid.zones = zones(place, roff, d)?;

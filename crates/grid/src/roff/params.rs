@@ -136,7 +136,7 @@ pub fn parameters(place: &Place, roff: &Roff, d: Dims) -> Result<Vec<Parameter>>
             _ => None,
         };
         out.push(Parameter {
-            values: reorder(d, &values, f32::NAN),
+            values: reorder(d, &values, f32::NAN, |v| v),
             name,
             codes,
         });

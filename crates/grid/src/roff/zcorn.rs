@@ -15,6 +15,10 @@ fn node_values(split: u8, z: &[f32]) -> Option<[f32; 8]> {
     })
 }
 
+/// Pillars along I taken together when spreading z values (see [`expand`]): eight
+/// pillars fill a 64-byte line of ZCORN's 4-byte values.
+const PILLAR_BLOCK: usize = 8;
+
 /// The z values of `zvalues/data` spread over ZCORN (`[2 nz, 2 ny, 2 nx]`, flat) as
 /// depths `(z + zoffset) * zscale`.
 pub fn expand(place: &Place, roff: &Roff, d: Dims, zoff: f64, zscale: f64) -> Result<Vec<f32>> {
@@ -75,35 +79,61 @@ pub fn expand(place: &Place, roff: &Roff, d: Dims, zoff: f64, zscale: f64) -> Re
         ));
     }
     let (nx, ny, nz) = (d.nx, d.ny, d.nz);
+    // Where each pillar's z values start (pillars with j fastest, as stored).
+    let pillar_at: Vec<usize> = split
+        .chunks_exact(nz + 1)
+        .scan(0, |at, pillar| {
+            let start = *at;
+            *at += pillar.iter().map(|&s| usize::from(s)).sum::<usize>();
+            Some(start)
+        })
+        .collect();
     let mut zcorn = vec![0.0f32; 8 * d.cell_count()];
     let depth = |v: f32| ((f64::from(v) + zoff) * zscale) as f32;
-    let mut at = 0;
-    let mut n = 0;
-    for pi in 0..=nx {
+    let slab = 4 * nx * ny;
+    // Pillars are taken a block of I at a time, J by J, and within that K by K: the
+    // values of one node level of the block's pillars land side by side in a few
+    // lines of ZCORN, where a pillar at a time would write one value per line of
+    // every layer.
+    for pi0 in (0..=nx).step_by(PILLAR_BLOCK) {
+        let block = pi0..(pi0 + PILLAR_BLOCK).min(nx + 1);
         for pj in 0..=ny {
-            for kr in 0..=nz {
-                let s = split[n];
-                let v = node_values(s, &z[at..at + usize::from(s)]).ok_or_else(|| {
-                    let msg =
-                        format!("split {s} at node ({pi}, {pj}, {kr}); ROFF has 1, 2, 4 or 8");
-                    place.error(no, "zvalues/splitEnz", split_key.at, msg)
-                })?;
-                n += 1;
-                at += usize::from(s);
-                for q in 0..4 {
+            let mut pillars = [(0usize, 0usize, [None; 4]); PILLAR_BLOCK];
+            for (pillar, pi) in pillars.iter_mut().zip(block.clone()) {
+                let p = pi * (ny + 1) + pj;
+                // The ZCORN columns of the (up to four) cells around the pillar, by
+                // quadrant: south-west, south-east, north-west, north-east.
+                let mut columns = [None; 4];
+                for (q, column) in columns.iter_mut().enumerate() {
                     let (ci, cj) = (
                         (pi + (q & 1)).wrapping_sub(1),
                         (pj + (q >> 1)).wrapping_sub(1),
                     );
-                    if ci >= nx || cj >= ny {
-                        continue;
+                    if ci < nx && cj < ny {
+                        *column = Some((2 * cj + pj - cj) * 2 * nx + 2 * ci + pi - ci);
                     }
-                    let col = (2 * cj + pj - cj) * 2 * nx + 2 * ci + pi - ci;
-                    if kr >= 1 {
-                        zcorn[2 * (nz - kr) * 4 * nx * ny + col] = depth(v[q]);
-                    }
-                    if kr < nz {
-                        zcorn[(2 * (nz - 1 - kr) + 1) * 4 * nx * ny + col] = depth(v[4 + q]);
+                }
+                *pillar = (p * (nz + 1), pillar_at[p], columns);
+            }
+            for kr in 0..=nz {
+                for ((first_node, at, columns), pi) in pillars.iter_mut().zip(block.clone()) {
+                    let s = split[*first_node + kr];
+                    let values = &z[*at..*at + usize::from(s)];
+                    *at += usize::from(s);
+                    let v = node_values(s, values).ok_or_else(|| {
+                        let msg =
+                            format!("split {s} at node ({pi}, {pj}, {kr}); ROFF has 1, 2, 4 or 8");
+                        place.error(no, "zvalues/splitEnz", split_key.at, msg)
+                    })?;
+                    let v = v.map(depth);
+                    for (q, column) in columns.iter().enumerate() {
+                        let Some(column) = column else { continue };
+                        if kr >= 1 {
+                            zcorn[2 * (nz - kr) * slab + column] = v[q];
+                        }
+                        if kr < nz {
+                            zcorn[(2 * (nz - 1 - kr) + 1) * slab + column] = v[4 + q];
+                        }
                     }
                 }
             }
