@@ -8,10 +8,11 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use strata_grid::SurfaceMesh;
+use strata_grid::outline::OutlineEdge;
 use strata_lod::{CellCover, LodFile, ViewPoint};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
-use strata_render::wire::Drawable;
+use strata_render::wire::{Drawable, Family};
 use strata_render::{
     Camera, CellDraw, IsolineOptions, Isolines, Output, RangeAdjust, Renderer, TiledCells, View,
     WireMode,
@@ -47,6 +48,10 @@ pub struct Hierarchy {
     /// The drawn layers' fault traces, stored at full resolution, read on the first
     /// frame, and their levels of detail as uploaded.
     traces: Option<TraceLevels>,
+    /// The outer half of the outline's lines of the stack's top and bottom surfaces
+    /// (stored at full resolution), uploaded on the first frame; none with side
+    /// walls, which go down from the outline, or without a wireframe.
+    outline: Option<Option<Box<dyn Drawable>>>,
 }
 
 /// The fault traces of the top and bottom surfaces drawn, at levels of detail, in
@@ -171,6 +176,7 @@ impl Hierarchy {
             wire,
             last_chosen: Mutex::new(Vec::new()),
             traces: None,
+            outline: None,
         })
     }
 
@@ -303,6 +309,42 @@ impl Hierarchy {
         })
     }
 
+    /// Uploads the outline's outer half, once: that of the stack's top and bottom
+    /// surfaces, when the wireframe is drawn and no side walls go down from it.
+    fn prepare_outline(&mut self, renderer: &mut Renderer) -> Result<()> {
+        if self.outline.is_none() {
+            let wired = self.wire.family() == Family::Texture && self.wire != WireMode::None;
+            let edges: Vec<OutlineEdge> = match self.outer_surfaces() {
+                outer if wired && self.sides.is_none() => outer
+                    .into_iter()
+                    .flat_map(|l| self.file.layer_outline(l))
+                    .collect(),
+                _ => Vec::new(),
+            };
+            self.outline = Some(
+                renderer
+                    .prepare_outline_edges(&edges)
+                    .context("preparing the outline")?,
+            );
+        }
+        Ok(())
+    }
+
+    /// The outer surfaces of the stack drawn, its top and its bottom: those between
+    /// show only at its rims and fault walls, and drawing their lines too would
+    /// multiply the cost by the layers.
+    fn outer_surfaces(&self) -> Vec<usize> {
+        let drawn: Vec<usize> = (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect();
+        let mut outer: Vec<usize> = drawn
+            .first()
+            .into_iter()
+            .chain(drawn.last())
+            .copied()
+            .collect();
+        outer.dedup();
+        outer
+    }
+
     /// Per layer surface of the file, whether it lies inside the stack drawn: drawn,
     /// neither its top nor its bottom, and closed by side faces. Only the faces of
     /// those that the layers above and below leave open can be seen.
@@ -371,13 +413,9 @@ impl Hierarchy {
     ) -> Result<(Option<RgbaImage>, FrameReport)> {
         let z_scale = scene.camera.z_scale;
         if self.traces.as_ref().is_none_or(|t| t.z_scale != z_scale) {
-            // The outer surfaces of the stack drawn, its top and its bottom: those
-            // between show only at its rims and fault walls, and would multiply the
-            // cost by the layers.
-            let drawn: Vec<usize> = (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect();
-            let outer = [drawn.first(), drawn.last()];
-            let segments = (0..self.drawn.len())
-                .filter(|l| outer.contains(&Some(l)))
+            let segments = self
+                .outer_surfaces()
+                .into_iter()
                 .flat_map(|l| self.file.layer_faults(l).iter().copied());
             let [ni, nj] = self.file.dims().map(|n| n.max(1) as f32);
             let (lo, hi) = self.bounds;
@@ -388,6 +426,7 @@ impl Hierarchy {
                 drawn: None,
             });
         }
+        self.prepare_outline(renderer)?;
         let Plan {
             camera,
             mut chosen,
@@ -490,10 +529,15 @@ impl Hierarchy {
             Some(levels) if !chosen.is_empty() => levels.drawable(renderer, &view, scene)?,
             _ => None,
         };
+        let outline = match &self.outline {
+            Some(Some(outline)) if !chosen.is_empty() => Some(outline.as_ref()),
+            _ => None,
+        };
         let drawables: Vec<&dyn Drawable> = drawable
             .as_deref()
             .into_iter()
             .chain(side_drawable.as_deref())
+            .chain(outline)
             .chain(traces)
             .collect();
         let image = renderer.render_to(&drawables, &view, &style, output)?;
@@ -662,7 +706,7 @@ fn drawn_sides(file: &LodFile, drawn: &[bool]) -> Result<Option<SurfaceMesh>> {
 
 /// The side faces drawn as a model's scene draws them: painted cell by cell
 /// where they carry a property, with isolines of it (`iso`) that follow the property
-/// averaged onto their nodes.
+/// averaged onto their nodes; no outline, the walls going down from the layers'.
 fn prepare_sides(
     renderer: &mut Renderer,
     sides: &SurfaceMesh,
@@ -683,9 +727,9 @@ fn prepare_sides(
             adjust: RangeAdjust::On,
             wire: wire == WireMode::Global,
         };
-        return Ok(renderer.prepare_isolines(mesh, Some(&field), options)?);
+        return Ok(renderer.prepare_isolines_band(mesh, Some(&field), options, None)?);
     }
-    Ok(renderer.prepare(mesh, wire)?)
+    Ok(renderer.prepare_band(mesh, wire, None)?)
 }
 
 /// The property's values on the cells of the layer surfaces marked `drawn` (none

@@ -4,9 +4,11 @@
 //! draws in about the memory of one part, and the picture is the one mesh's.
 
 use strata_grid::faults::fault_traces_across_row;
+use strata_grid::outline::{OutlineEdge, outline_edges};
 use strata_grid::{CornerPointGrid, SurfaceMesh};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
+use strata_render::wire::Family;
 use strata_render::{HiddenLines, IsolineOptions, Output, Renderer, WireMode};
 
 use super::whole::{colouring, corner_field, field_options, scene_options};
@@ -179,12 +181,16 @@ impl Parts {
         let mut queue = self.parts.iter();
         let (options, iso) = (&self.options, &self.iso);
         let faults = style.faults.is_some();
-        // The fault traces on a band's border with the band before, which neither
-        // finds alone, drawn after the band.
-        let mut border: Option<Box<dyn strata_render::wire::Drawable>> = None;
+        // The outline's outer half, which the texture techniques draw, unless the
+        // scene's side walls (a part of their own) go down from the whole outline.
+        let wired = wire.family() == Family::Texture && wire != WireMode::None && !options.sides;
+        let ny = grid.dims().ny;
+        // The fault traces and outline edges on a band's border with the band before,
+        // which neither finds alone, drawn after the band.
+        let mut border: Vec<Box<dyn strata_render::wire::Drawable>> = Vec::new();
         let image = renderer.render_parts_to(&view, &style, output, |r| -> Result<_> {
-            if let Some(traces) = border.take() {
-                return Ok(Some(traces));
+            if let Some(lines) = border.pop() {
+                return Ok(Some(lines));
             }
             for part in queue.by_ref() {
                 done += 1;
@@ -202,17 +208,35 @@ impl Parts {
                 if mesh.triangle_count() == 0 {
                     continue;
                 }
-                if let (true, Part::Band { layer, face, rows }) = (faults, part)
-                    && rows.start > 0
-                {
-                    let strip = Part::Band {
-                        layer: *layer,
-                        face: *face,
-                        rows: rows.start - 1..rows.start + 1,
-                    };
-                    let strip = surfaces::build_part(grid, options, &strip, origin, &columns)?;
-                    let segments = fault_traces_across_row(&strip, rows.start as u32);
-                    border = r.prepare_fault_traces(&segments)?;
+                // A band is cut from its layer along its first and last rows' lines.
+                let mut cut_rows = Vec::new();
+                if let Part::Band { layer, face, rows } = part {
+                    cut_rows.extend(
+                        [rows.start, rows.end]
+                            .into_iter()
+                            .filter(|&j| j > 0 && j < ny)
+                            .map(|j| j as u32),
+                    );
+                    if rows.start > 0 && (faults || wired) {
+                        let strip = Part::Band {
+                            layer: *layer,
+                            face: *face,
+                            rows: rows.start - 1..rows.start + 1,
+                        };
+                        let strip = surfaces::build_part(grid, options, &strip, origin, &columns)?;
+                        let line = rows.start as u32;
+                        if faults {
+                            let segments = fault_traces_across_row(&strip, line);
+                            border.extend(r.prepare_fault_traces(&segments)?);
+                        }
+                        if wired {
+                            let edges: Vec<OutlineEdge> = outline_edges(&strip)
+                                .into_iter()
+                                .filter(|e| e.along_i && e.line == line)
+                                .collect();
+                            border.extend(r.prepare_outline_edges(&edges)?);
+                        }
+                    }
                 }
                 drawn += 1;
                 triangles += mesh.triangle_count();
@@ -224,10 +248,15 @@ impl Parts {
                             adjust,
                             wire: wire == WireMode::Global,
                         };
-                        r.prepare_isolines(&mesh, Some(&field), iso_options)?
+                        r.prepare_isolines_band(
+                            &mesh,
+                            Some(&field),
+                            iso_options,
+                            wired.then_some(&cut_rows),
+                        )?
                     }
                     _ => r
-                        .prepare(&mesh, wire)
+                        .prepare_band(&mesh, wire, wired.then_some(&cut_rows))
                         .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
                 };
                 return Ok(Some(drawable));

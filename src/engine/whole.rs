@@ -2,9 +2,10 @@
 //! and drawn for each camera.
 
 use strata_grid::SurfaceMesh;
+use strata_grid::outline::outline_edges;
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
-use strata_render::wire::Drawable;
+use strata_render::wire::{Drawable, Family};
 use strata_render::{IsolineOptions, Output, Renderer, WireMode};
 
 use super::decimated::{self, Decimation};
@@ -24,6 +25,8 @@ pub struct Whole {
     /// The range of the isoline field's values, when isolines are drawn.
     iso_range: Option<(f32, f32)>,
     drawable: Box<dyn Drawable>,
+    /// On a decimated surface, the outer half of the original's outline.
+    original_outline: Option<Box<dyn Drawable>>,
 }
 
 impl Whole {
@@ -61,9 +64,16 @@ impl Whole {
         // isolines, with or without the original's grid lines over them.
         let by_cells = global || wire == WireMode::None;
         let mut notes = Vec::new();
+        // The outline's outer half (drawn by the texture techniques), unless side
+        // walls go down from it: on a decimated surface, the original's.
+        let outlined = wire.family() == Family::Texture && wire != WireMode::None && !options.sides;
+        let mut original_outline = Vec::new();
         let (mesh, range, mut cells) = match decimation {
             Some(decimation) => {
                 let (surfaces, stacked) = surfaces::build_stacked_surfaces(grid, &options)?;
+                if outlined {
+                    original_outline = surfaces[..stacked].iter().flat_map(outline_edges).collect();
+                }
                 let origin = surfaces.first().map_or([0.0; 3], |s| s.origin);
                 let framed = model.stray.as_ref().map(|s| s.rest.to_display(origin));
                 let decimated = decimated::decimate_scene(
@@ -119,28 +129,34 @@ impl Whole {
                 None => None,
             };
         let adjust = scene.isolines.as_ref().map(|iso| iso.adjust);
+        let outline: Option<&[u32]> = outlined.then_some(&[]);
         let drawable = match (&cells, &field, adjust) {
             (Some(cells), _, _) => renderer
                 .prepare_cells(&mesh, &cells.draw(global))
                 .context("preparing the global wireframe over the original's cells")?,
-            (None, Some(field), Some(adjust)) => renderer.prepare_isolines(
+            (None, Some(field), Some(adjust)) => renderer.prepare_isolines_band(
                 &mesh,
                 Some(field),
                 IsolineOptions {
                     adjust,
                     wire: global,
                 },
+                outline,
             )?,
             _ => renderer
-                .prepare(&mesh, wire)
+                .prepare_band(&mesh, wire, outline)
                 .with_context(|| format!("preparing the {} wireframe", wire.name()))?,
         };
+        let original_outline = renderer
+            .prepare_outline_edges(&original_outline)
+            .context("preparing the original's outline")?;
         let whole = Whole {
             mesh,
             options,
             range,
             iso_range,
             drawable,
+            original_outline,
         };
         Ok((whole, notes))
     }
@@ -209,7 +225,10 @@ impl Whole {
             [mesh.origin[0], mesh.origin[1]],
             isolines,
         )?;
-        let image = renderer.render_to(&[self.drawable.as_ref()], &view, &style, output)?;
+        let drawables: Vec<&dyn Drawable> = std::iter::once(self.drawable.as_ref())
+            .chain(self.original_outline.as_deref())
+            .collect();
+        let image = renderer.render_to(&drawables, &view, &style, output)?;
         let report = FrameReport {
             triangles: mesh.triangle_count(),
             drawn: format!("{} triangles", mesh.triangle_count()),

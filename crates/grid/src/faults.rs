@@ -19,7 +19,11 @@ pub type Segment = [[f32; 3]; 2];
 /// The corners of a layer surface's cell face, `[(0, 0), (1, 0), (0, 1), (1, 1)]` in
 /// cell steps along i and j, or `None` for a face whose coordinates are not those
 /// of a layer face of its cell (a side wall).
-fn layer_corners(mesh: &SurfaceMesh, cell: [u32; 3], triangles: [u32; 2]) -> Option<[u32; 4]> {
+pub(crate) fn layer_corners(
+    mesh: &SurfaceMesh,
+    cell: [u32; 3],
+    triangles: [u32; 2],
+) -> Option<[u32; 4]> {
     let mut corners = [u32::MAX; 4];
     for t in triangles {
         for &v in mesh.triangles.get(t as usize)? {

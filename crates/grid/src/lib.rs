@@ -58,6 +58,7 @@ pub mod faults;
 pub mod grdecl;
 mod grid;
 mod mesh;
+pub mod outline;
 mod pages;
 pub mod roff;
 pub mod surface;

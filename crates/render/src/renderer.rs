@@ -153,7 +153,7 @@ pub struct Renderer {
     /// Without and with the mask, then both without the wire.
     cells: [Option<wire::CellTechnique>; 4],
     /// Draws fault traces given as segments (a hierarchy's).
-    faults: Option<wgpu::RenderPipeline>,
+    edges: Option<wire::EdgePipelines>,
     targets: Option<Targets>,
     /// Blended over the end of every frame (the colour legend).
     overlay: Option<Overlay>,
@@ -269,7 +269,7 @@ impl Renderer {
             techniques: HashMap::new(),
             isolines: None,
             cells: [None, None, None, None],
-            faults: None,
+            edges: None,
             targets: None,
             overlay: None,
         })
@@ -301,11 +301,37 @@ impl Renderer {
         Self::new(Gpu::new()?)
     }
 
-    /// Uploads `mesh` for drawing with `mode` (retained mode).
+    /// Uploads `mesh` for drawing with `mode` (retained mode). The texture techniques
+    /// but `none` draw, after the surface, the outer half of its outline's lines and
+    /// its fault traces.
     pub fn prepare(&mut self, mesh: &SurfaceMesh, mode: WireMode) -> Result<Box<dyn Drawable>> {
+        self.prepare_band(mesh, mode, Some(&[]))
+    }
+
+    /// [`Renderer::prepare`] for a mesh cut from its surface along the lines of
+    /// constant j at the node rows `cut_rows` (a band of rows of a larger layer):
+    /// there it has no outline, the surface going on. `None`: no outline at all, side
+    /// walls drawn apart carrying the lines there.
+    pub fn prepare_band(
+        &mut self,
+        mesh: &SurfaceMesh,
+        mode: WireMode,
+        cut_rows: Option<&[u32]>,
+    ) -> Result<Box<dyn Drawable>> {
         self.ensure_technique(mode);
+        self.build_edge_pipelines();
         let technique = &self.techniques[&mode];
-        validated(&self.gpu, || technique.prepare(&self.gpu, mesh))
+        let edges = self.edges.as_ref();
+        validated(&self.gpu, || {
+            let draw = technique.prepare(&self.gpu, mesh)?;
+            // The shaded surface alone draws no lines at all.
+            Ok(match edges {
+                Some(edges) if mode.family() == wire::Family::Texture && mode != WireMode::None => {
+                    Box::new(wire::Edged::new(&self.gpu, draw, mesh, edges, cut_rows))
+                }
+                _ => draw,
+            })
+        })
     }
 
     /// Uploads a decimated `mesh` for drawing with the global wireframe (without it
@@ -345,12 +371,28 @@ impl Renderer {
         &mut self,
         segments: &[strata_grid::faults::Segment],
     ) -> Result<Option<Box<dyn Drawable>>> {
-        self.build_fault_pipeline();
-        let pipeline = self.faults.as_ref();
+        self.build_edge_pipelines();
+        let pipeline = self.edges.as_ref().map(|e| &e.faults);
         let traces = validated(&self.gpu, || {
             Ok(pipeline.and_then(|p| wire::FaultTraces::new(&self.gpu, segments, p)))
         })?;
         Ok(traces.map(|t| Box::new(t) as Box<dyn Drawable>))
+    }
+
+    /// Uploads outline `edges` (`strata_grid::outline`, in the display frame of the
+    /// meshes they bound) to draw the outer half of their lines over what is drawn
+    /// before them: those on the border of two bands of rows, which neither band
+    /// finds alone. `None` when there are none.
+    pub fn prepare_outline_edges(
+        &mut self,
+        edges: &[strata_grid::outline::OutlineEdge],
+    ) -> Result<Option<Box<dyn Drawable>>> {
+        self.build_edge_pipelines();
+        let pipeline = self.edges.as_ref().map(|e| &e.outline);
+        let lines = validated(&self.gpu, || {
+            Ok(pipeline.and_then(|p| wire::OutlineLines::new(&self.gpu, edges, p)))
+        })?;
+        Ok(lines.map(|l| Box::new(l) as Box<dyn Drawable>))
     }
 
     /// What a technique outside the wire registry (e.g. the contour baseline) needs
@@ -373,6 +415,17 @@ impl Renderer {
         field: Option<&[f32]>,
         options: IsolineOptions,
     ) -> Result<Box<dyn Drawable>> {
+        self.prepare_isolines_band(mesh, field, options, Some(&[]))
+    }
+
+    /// [`Renderer::prepare_isolines`] for a band of rows, as [`Renderer::prepare_band`].
+    pub fn prepare_isolines_band(
+        &mut self,
+        mesh: &SurfaceMesh,
+        field: Option<&[f32]>,
+        options: IsolineOptions,
+        cut_rows: Option<&[u32]>,
+    ) -> Result<Box<dyn Drawable>> {
         let scope = self
             .gpu
             .device
@@ -386,12 +439,17 @@ impl Renderer {
         };
         let prepared = technique.prepare(&self.gpu, mesh, field, options);
         self.isolines = Some(technique);
-        // With the traces of the mesh's faults, as the wireframe techniques draw them.
-        self.build_fault_pipeline();
-        let faulted: Result<Box<dyn Drawable>> = match (prepared, &self.faults) {
-            (Ok(draw), Some(faults)) => {
-                Ok(Box::new(wire::Faulted::new(&self.gpu, draw, mesh, faults)))
-            }
+        // With the traces of the mesh's faults and, with the wireframe, its outline,
+        // as the wireframe techniques draw them.
+        self.build_edge_pipelines();
+        let faulted: Result<Box<dyn Drawable>> = match (prepared, &self.edges) {
+            (Ok(draw), Some(edges)) => Ok(Box::new(wire::Edged::new(
+                &self.gpu,
+                Box::new(draw),
+                mesh,
+                edges,
+                cut_rows.filter(|_| options.wire),
+            ))),
             (Ok(draw), None) => Ok(Box::new(draw)),
             (Err(e), _) => Err(e),
         };
@@ -401,10 +459,10 @@ impl Renderer {
         faulted
     }
 
-    /// Builds the pipeline drawing fault traces given as segments, once.
-    fn build_fault_pipeline(&mut self) {
-        if self.faults.is_none() {
-            self.faults = Some(wire::fault_pipeline(&self.context()));
+    /// Builds the pipelines drawing fault traces and outline edges, once.
+    fn build_edge_pipelines(&mut self) {
+        if self.edges.is_none() {
+            self.edges = Some(wire::EdgePipelines::new(&self.context()));
         }
     }
 

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 use strata_grid::faults::{Segment, fault_traces};
+use strata_grid::outline::{OutlineEdge, outline_edges};
 use strata_grid::{
     CellFace, CornerPointGrid, Face, SurfaceMesh, Surfaces, has_faces, layer_surfaces,
     side_surfaces,
@@ -43,8 +44,10 @@ struct BuiltSurface {
     face: Face,
     tree: StoredTree,
     cells: Option<LayerCells>,
-    /// Its fault traces, found before the tree drops the cell faces.
+    /// Its fault traces and outline edges, found before the tree drops the cell
+    /// faces.
     faults: Vec<Segment>,
+    outline: Vec<OutlineEdge>,
 }
 
 /// Bytes one layer surface's hierarchy holds per active cell while it is built: the
@@ -130,6 +133,7 @@ pub fn build_file(
                 let cells = property.map(|_| LayerCells::of(&mesh, dims));
                 // Found at full resolution, which the nodes, without cell faces, lose.
                 let faults = fault_traces(&mesh);
+                let outline = outline_edges(&mesh);
                 // The tree needs no cell faces: 24 bytes a cell less while it is built.
                 mesh.cell_faces = Vec::new();
                 let mut tree = build_layer_with(&mesh, dims, options, &built, &StoredNode::of)?;
@@ -141,6 +145,7 @@ pub fn build_file(
                     tree,
                     cells,
                     faults,
+                    outline,
                 })
             })
             .collect::<Result<_>>()?;
@@ -162,7 +167,14 @@ pub fn build_file(
             report.nodes += tree.len();
             report.layers += usize::from(!tree.is_empty());
             report.side_triangles += sides.map_or(0, SurfaceMesh::triangle_count);
-            writer.layer(s.k as u32, s.face, tree, s.cells.as_ref(), sides, &s.faults)?;
+            writer.layer(
+                s.k as u32,
+                s.face,
+                tree,
+                s.cells.as_ref(),
+                sides,
+                (&s.faults, &s.outline),
+            )?;
             written += 1;
             tell(Progress::Written {
                 written,

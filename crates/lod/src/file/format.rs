@@ -8,7 +8,8 @@ use bytemuck::{Pod, Zeroable};
 /// faces. 5: side faces wound counter-clockwise seen from outside their cells, so a
 /// view leaves out those that turn their back to the eye. 6: the header ends with the
 /// box views frame. 7: each layer surface's fault traces. 8: each node's exposed faces,
-/// which let a view leave out what a closed stack hides.
+/// which let a view leave out what a closed stack hides, and each layer surface's
+/// outline edges.
 pub(super) const VERSION: u32 = 8;
 
 /// Header flag: vertices carry a scalar (NaN otherwise).
@@ -68,7 +69,10 @@ pub struct LayerRecord {
     pub faults_offset: u64,
     /// Fault trace segments (two points of three f32 each).
     pub fault_segments: u32,
-    pub(super) _pad: u32,
+    /// Outline edges (`strata_grid::outline`, 18 words each).
+    pub outline_edges: u32,
+    /// Byte offset of the layer surface's outline edges; 0 where there are none.
+    pub outline_offset: u64,
 }
 
 /// One node of the file.
@@ -105,6 +109,41 @@ pub struct NodeRecord {
     /// (where the cell above or below has no face): the only ones a closed stack
     /// shows, when it is not the top or bottom of what is drawn.
     pub exposed: u32,
+}
+
+/// Words (4 bytes) of an outline edge as stored: its ends (6 f32), the point one cell
+/// inward (3 f32), its grid line and whether it runs along i (2 u32), the neighbours'
+/// far ends (6 f32) and a word of padding.
+pub(super) const OUTLINE_EDGE_WORDS: usize = 18;
+
+/// An outline edge as stored.
+pub(super) fn stored_outline_edge(
+    e: &strata_grid::outline::OutlineEdge,
+) -> [u32; OUTLINE_EDGE_WORDS] {
+    let mut out = [0u32; OUTLINE_EDGE_WORDS];
+    let floats = e.ends.iter().chain([&e.inward]).flatten();
+    for (o, v) in out.iter_mut().zip(floats) {
+        *o = v.to_bits();
+    }
+    out[9] = e.line;
+    out[10] = u32::from(e.along_i);
+    for (o, v) in out[11..17].iter_mut().zip(e.before.iter().chain(&e.after)) {
+        *o = v.to_bits();
+    }
+    out
+}
+
+/// An outline edge read back from its stored words.
+pub(super) fn read_outline_edge(w: &[u32]) -> strata_grid::outline::OutlineEdge {
+    let point = |at: usize| [0, 1, 2].map(|a| f32::from_bits(w[at + a]));
+    strata_grid::outline::OutlineEdge {
+        ends: [point(0), point(3)],
+        inward: point(6),
+        line: w[9],
+        along_i: w[10] != 0,
+        before: point(11),
+        after: point(14),
+    }
 }
 
 /// Sizes of the records as stored.

@@ -23,10 +23,15 @@
 //! layer faults  per layer surface with fault traces (`strata_grid::faults`, found at
 //!               full resolution), after its sides: the segments' two ends (six f32
 //!               each), padded to 8 bytes
-//! LayerRecord   56 bytes per layer surface: grid layer, face, root node, node count,
+//! layer outline per layer surface with outline edges (`strata_grid::outline`, found
+//!               at full resolution), after its faults: 18 words an edge (ends, point
+//!               inward, grid line, along i, neighbours' far ends, padding)
+//! LayerRecord   64 bytes per layer surface: grid layer, face, root node, node count,
 //!               offsets of its cells and sides, side vertex and face counts, offset
-//!               and count of its fault segments
-//! NodeRecord    96 bytes per node (see the struct)
+//!               and count of its fault segments, count and offset of its outline
+//!               edges
+//! NodeRecord    96 bytes per node (see the struct; its faces exposed in the stack
+//!               among them)
 //! ```
 //!
 //! Node data is written as each layer is built, so building holds one batch of layers

@@ -6,11 +6,13 @@ use std::path::{Path, PathBuf};
 
 use memmap2::Mmap;
 use strata_grid::faults::Segment;
+use strata_grid::outline::OutlineEdge;
 use strata_grid::{CellFace, Content, HIERARCHY_MAGIC, SurfaceMesh};
 
 use super::format::{
     HAS_SCALARS, HEADER_BYTES, Header, Indices, LAYER_BYTES, LayerRecord, NODE_BYTES, NodeRecord,
-    STRAY_CORNERS, VERSION, Vertex, layer_cells_bytes, layer_sides_bytes,
+    OUTLINE_EDGE_WORDS, STRAY_CORNERS, VERSION, Vertex, layer_cells_bytes, layer_sides_bytes,
+    read_outline_edge,
 };
 use crate::{Error, Result};
 
@@ -150,6 +152,22 @@ impl LodFile {
                     &format!("layer {l}: fault traces outside the file"),
                 ));
             }
+            let outline_fit = if layer.outline_edges == 0 {
+                layer.outline_offset == 0
+            } else {
+                layer.outline_offset >= HEADER_BYTES as u64
+                    && layer.outline_offset.is_multiple_of(8)
+                    && layer
+                        .outline_offset
+                        .checked_add(4 * OUTLINE_EDGE_WORDS as u64 * u64::from(layer.outline_edges))
+                        .is_some_and(|end| end <= len)
+            };
+            if !outline_fit {
+                return Err(bad(
+                    at,
+                    &format!("layer {l}: outline edges outside the file"),
+                ));
+            }
         }
         out.check_tree()?;
         Ok(out)
@@ -284,6 +302,19 @@ impl LodFile {
         bytemuck::cast_slice(
             &self.map[o..o + SEGMENT_BYTES as usize * layer.fault_segments as usize],
         )
+    }
+
+    /// The outline edges of layer surface `l` (`strata_grid::outline`), found at full
+    /// resolution when it was built, in the display frame of the file's origin.
+    pub fn layer_outline(&self, l: usize) -> Vec<OutlineEdge> {
+        let layer = &self.layers()[l];
+        let o = layer.outline_offset as usize;
+        let bytes = &self.map[o..o + 4 * OUTLINE_EDGE_WORDS * layer.outline_edges as usize];
+        let words: &[u32] = bytemuck::cast_slice(bytes);
+        words
+            .chunks_exact(OUTLINE_EDGE_WORDS)
+            .map(read_outline_edge)
+            .collect()
     }
 
     /// The side faces of layer surface `l`'s grid layer (outer shell and fault walls,

@@ -7,9 +7,13 @@ use std::path::{Path, PathBuf};
 
 use bytemuck::Zeroable;
 use strata_grid::faults::Segment;
+use strata_grid::outline::OutlineEdge;
 use strata_grid::{Face, HIERARCHY_MAGIC, SurfaceMesh};
 
-use super::format::{HAS_SCALARS, Header, LayerRecord, NodeRecord, STRAY_CORNERS, VERSION, Vertex};
+use super::format::{
+    HAS_SCALARS, Header, LayerRecord, NodeRecord, OUTLINE_EDGE_WORDS, STRAY_CORNERS, VERSION,
+    Vertex, stored_outline_edge,
+};
 use crate::hierarchy::Node;
 use crate::{Error, Result};
 
@@ -156,7 +160,7 @@ impl Writer {
         tree: &StoredTree,
         cells: Option<&LayerCells>,
         sides: Option<&SurfaceMesh>,
-        faults: &[Segment],
+        (faults, outline): (&[Segment], &[OutlineEdge]),
     ) -> Result<()> {
         if tree.is_empty() {
             return Ok(());
@@ -221,6 +225,17 @@ impl Writer {
                 offset
             }
         };
+        let outline_offset = match outline {
+            [] => 0,
+            _ => {
+                let offset = self.pos;
+                let words: Vec<[u32; OUTLINE_EDGE_WORDS]> =
+                    outline.iter().map(stored_outline_edge).collect();
+                self.write(bytemuck::cast_slice(&words))?;
+                self.pad()?;
+                offset
+            }
+        };
         self.layers.push(LayerRecord {
             k,
             face: match face {
@@ -235,7 +250,8 @@ impl Writer {
             side_faces,
             faults_offset,
             fault_segments: faults.len() as u32,
-            _pad: 0,
+            outline_edges: outline.len() as u32,
+            outline_offset,
         });
         Ok(())
     }

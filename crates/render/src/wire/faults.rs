@@ -2,14 +2,16 @@
 //! screen-aligned quads of constant thickness over the surfaces. Unlike the cell
 //! lines, which come from the texture coordinates and thin out or fade with the cells'
 //! size on screen, these are geometry: they keep their width at every zoom. A mesh
-//! with cell faces finds its own ([`Faulted`]); a hierarchy gives the ones it stored
+//! with cell faces finds its own ([`Edged`], with its outline edges); a hierarchy gives the ones it stored
 //! ([`FaultTraces`]).
 
 use strata_grid::SurfaceMesh;
 use strata_grid::faults::{Segment, fault_traces};
+use strata_grid::outline::{OutlineEdge, outline_edges};
 use wgpu::util::DeviceExt;
 
 use super::lines::{PassSpec, shader};
+use super::outline::{OutlineLines, outline_pipeline};
 use super::{Drawable, FrameTargets, PipelineContext};
 use crate::Gpu;
 
@@ -26,7 +28,7 @@ pub(crate) fn fault_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
     })];
     PassSpec {
         buffers: &buffers,
-        // Drawn nearer than the surfaces they lie on (FAULT_PULL), so they pass; written,
+        // Drawn nearer than the surfaces they lie on (EDGE_PULL), so they pass; written,
         // so that a trace drawn again over the same pixels (the other side's, the next
         // segment's end) with less coverage fails instead of blending its edges twice
         // (COVERAGE_DEPTH).
@@ -85,23 +87,65 @@ impl Drawable for FaultTraces {
     }
 }
 
-/// A drawable and the fault traces of its mesh, drawn after it.
-pub(crate) struct Faulted<D> {
-    inner: D,
-    traces: Option<FaultTraces>,
+/// The pipelines of the lines drawn as geometry after a surface: its fault traces and
+/// the outer half of its outline's lines.
+pub(crate) struct EdgePipelines {
+    pub faults: wgpu::RenderPipeline,
+    pub outline: wgpu::RenderPipeline,
 }
 
-impl<D: Drawable> Faulted<D> {
-    /// `inner` with the fault traces of `mesh`, drawn by `pipeline`.
-    pub fn new(gpu: &Gpu, inner: D, mesh: &SurfaceMesh, pipeline: &wgpu::RenderPipeline) -> Self {
-        let traces = FaultTraces::new(gpu, &fault_traces(mesh), pipeline);
-        Faulted { inner, traces }
+impl EdgePipelines {
+    pub fn new(ctx: &PipelineContext) -> Self {
+        EdgePipelines {
+            faults: fault_pipeline(ctx),
+            outline: outline_pipeline(ctx),
+        }
     }
 }
 
-impl<D: Drawable> Drawable for Faulted<D> {
+/// A drawable and what of its mesh's edges is drawn after it: the outline's outer
+/// half, then the fault traces. What a texture technique's drawable is wrapped in
+/// (`Renderer::prepare`).
+pub(crate) struct Edged {
+    inner: Box<dyn Drawable>,
+    outline: Option<OutlineLines>,
+    traces: Option<FaultTraces>,
+}
+
+impl Edged {
+    /// `inner` with the fault traces of `mesh` and, where it draws the wireframe
+    /// (`outline` given), its outline edges but those on the lines of constant j at
+    /// the node rows `outline` lists (where the mesh was cut from the rest of its
+    /// surface).
+    pub fn new(
+        gpu: &Gpu,
+        inner: Box<dyn Drawable>,
+        mesh: &SurfaceMesh,
+        pipelines: &EdgePipelines,
+        outline: Option<&[u32]>,
+    ) -> Self {
+        let outline = outline.and_then(|cut_rows| {
+            let edges: Vec<OutlineEdge> = outline_edges(mesh)
+                .into_iter()
+                .filter(|e| !(e.along_i && cut_rows.contains(&e.line)))
+                .collect();
+            OutlineLines::new(gpu, &edges, &pipelines.outline)
+        });
+        let traces = FaultTraces::new(gpu, &fault_traces(mesh), &pipelines.faults);
+        Edged {
+            inner,
+            outline,
+            traces,
+        }
+    }
+}
+
+impl Drawable for Edged {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         self.inner.encode(frame, encoder);
+        if let Some(outline) = &self.outline {
+            outline.encode(frame, encoder);
+        }
         if let Some(traces) = &self.traces {
             traces.encode(frame, encoder);
         }
@@ -112,7 +156,9 @@ impl<D: Drawable> Drawable for Faulted<D> {
     }
 
     fn bytes(&self) -> u64 {
-        self.inner.bytes() + self.traces.as_ref().map_or(0, FaultTraces::bytes)
+        self.inner.bytes()
+            + self.outline.as_ref().map_or(0, OutlineLines::bytes)
+            + self.traces.as_ref().map_or(0, FaultTraces::bytes)
     }
 
     fn supports(&self, hidden: crate::HiddenLines) -> bool {

@@ -1,20 +1,9 @@
 // ---- faults.wgsl: fault traces over the surfaces (faults.rs) ----
 
-// Fraction of its distance from the eye by which a trace is drawn nearer, so that it
-// passes the depth test on the surface it lies on (and on the neighbouring surface
-// its quad reaches across) without sinking into it at grazing angles; the vertex
-// moves along its view ray, so it stays on the same pixel.
-const FAULT_PULL: f32 = 0.002;
-
 struct FaultOut {
     @builtin(position) position: vec4<f32>,
     // The segment's ends in window pixels.
     @location(0) @interpolate(flat) ends: vec4<f32>,
-}
-
-fn pulled_clip(p: vec3<f32>) -> vec4<f32> {
-    let wp = world(p);
-    return clip(wp - (wp - frame.eye.xyz) * FAULT_PULL);
 }
 
 // Six vertices per segment (an instance): the two triangles of the quad around it.

@@ -115,6 +115,19 @@ fn line_color(scalar: f32, cov: f32) -> vec4<f32> {
     return vec4<f32>(frame.wire_color.rgb, cov * frame.wire_color.a);
 }
 
+// Fraction of its distance from the eye by which a line drawn as geometry over a
+// surface (fault traces, outline edges) is drawn nearer, so that it passes the depth
+// test on the surface it lies on (and on the neighbouring surface its quad reaches
+// across) without sinking into it at grazing angles; the vertex moves along its view
+// ray, so it stays on the same pixel.
+const EDGE_PULL: f32 = 0.002;
+
+// Clip position of display-frame point p drawn EDGE_PULL nearer.
+fn pulled_clip(p: vec3<f32>) -> vec4<f32> {
+    let wp = world(p);
+    return clip(wp - (wp - frame.eye.xyz) * EDGE_PULL);
+}
+
 // Where to put a vertex that must not draw: outside the clip volume.
 const CULLED: vec4<f32> = vec4<f32>(2.0, 2.0, 2.0, 1.0);
 

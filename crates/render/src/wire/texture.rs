@@ -8,7 +8,6 @@ use bytemuck::{Pod, Zeroable};
 use strata_grid::SurfaceMesh;
 use wgpu::util::DeviceExt;
 
-use super::faults::{Faulted, fault_pipeline};
 use super::labels::{Labelling, label_vertices};
 use super::lines::{PulledMesh, check_mesh, storage, storage_layout};
 use super::{
@@ -68,8 +67,6 @@ pub struct VertexTechnique {
     mode: WireMode,
     /// One per coverage form and use of extra lines (`texture_pipelines`).
     pipelines: [wgpu::RenderPipeline; 4],
-    /// Fault traces over the wireframe (faults.rs).
-    faults: wgpu::RenderPipeline,
 }
 
 impl VertexTechnique {
@@ -102,11 +99,7 @@ impl VertexTechnique {
             ..PipelineRequest::new(mode.name(), &module, entries)
         };
         let pipelines = texture_pipelines(ctx, &request);
-        VertexTechnique {
-            mode,
-            pipelines,
-            faults: fault_pipeline(ctx),
-        }
+        VertexTechnique { mode, pipelines }
     }
 }
 
@@ -118,11 +111,8 @@ impl Technique for VertexTechnique {
     fn prepare(&self, gpu: &Gpu, mesh: &SurfaceMesh) -> Result<Box<dyn Drawable>> {
         // Uploaded from where they are made: copies of a part's vertices and indices
         // cost as much as making them.
-        let faulted = |draw: IndexedDraw| -> Box<dyn Drawable> {
-            Box::new(Faulted::new(gpu, draw, mesh, &self.faults))
-        };
         let draw = |vertices: &[u8], triangles: &[[u32; 3]]| -> Result<Box<dyn Drawable>> {
-            Ok(faulted(IndexedDraw::new(
+            Ok(Box::new(IndexedDraw::new(
                 gpu,
                 self.pipelines.clone(),
                 vertices,
@@ -158,12 +148,7 @@ impl Technique for VertexTechnique {
                     &mesh.triangles,
                     mode.name(),
                 )?;
-                // The shaded surface alone draws no lines at all.
-                Ok(if mode == WireMode::None {
-                    Box::new(draw)
-                } else {
-                    faulted(draw)
-                })
+                Ok(Box::new(draw))
             }
         }
     }
@@ -335,7 +320,6 @@ impl Drawable for IndexedDraw {
 pub struct PulledTechnique {
     pipelines: [wgpu::RenderPipeline; 4],
     layout: wgpu::BindGroupLayout,
-    faults: wgpu::RenderPipeline,
 }
 
 impl PulledTechnique {
@@ -353,11 +337,7 @@ impl PulledTechnique {
             ..PipelineRequest::new("texgs", &module, ("vs_texgs", "fs_tex3"))
         };
         let pipelines = texture_pipelines(ctx, &request);
-        PulledTechnique {
-            pipelines,
-            layout,
-            faults: fault_pipeline(ctx),
-        }
+        PulledTechnique { pipelines, layout }
     }
 }
 
@@ -399,7 +379,7 @@ impl Technique for PulledTechnique {
             triangles: mesh.triangles.len(),
             bytes,
         };
-        Ok(Box::new(Faulted::new(gpu, draw, mesh, &self.faults)))
+        Ok(Box::new(draw))
     }
 }
 

@@ -1,0 +1,120 @@
+//! The outer half of the lines on a surface's outline (`strata_grid::outline`): the
+//! model's outline, holes and inactive cells.
+//!
+//! # How it works
+//! The texture techniques draw a cell line where the surface is: on an outline edge,
+//! only the half of the line that falls on the surface shows, and a one-pixel outline
+//! nearly vanishes. This pass draws the other half as a screen-space quad per outline
+//! edge, after the surface, depth tested without writing depth. The fragment keeps
+//! the pixels on the far side of the edge from the surface, evaluates the line as the
+//! texture techniques evaluate theirs (`cell_lines`: thickness, coverage form, major
+//! lines and their fading, attenuation), from its distance to the edge and the
+//! cell's width on screen, and around each end keeps only the pixels on its side of
+//! the bisector with the next edge, so a corner is covered once.
+//!
+//! # Why not the obvious way
+//! Widening the mesh by a skirt of triangles would need each technique to extrapolate
+//! its own coordinates into the skirt; a second pass over the whole mesh (as `bias`
+//! or `dist` draw edges) costs what the texture techniques save. The outline is a
+//! fraction of the edges, and this pass draws only those.
+
+use strata_grid::outline::OutlineEdge;
+use wgpu::util::DeviceExt;
+
+use super::lines::{PassSpec, shader};
+use super::{Drawable, FrameTargets, PipelineContext};
+use crate::Gpu;
+
+/// An outline edge as the shader reads it: its ends, the point one cell inward with
+/// the grid line's index, and its neighbours' far ends.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct EdgeRecord {
+    ends: [[f32; 3]; 2],
+    inward: [f32; 3],
+    line: f32,
+    before: [f32; 3],
+    after: [f32; 3],
+}
+
+impl From<&OutlineEdge> for EdgeRecord {
+    fn from(e: &OutlineEdge) -> Self {
+        EdgeRecord {
+            ends: e.ends,
+            inward: e.inward,
+            line: e.line as f32,
+            before: e.before,
+            after: e.after,
+        }
+    }
+}
+
+const EDGE_ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x3, 4 => Float32x3
+];
+
+/// The pipeline that draws outline edges, shared by a technique's drawables.
+pub(crate) fn outline_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
+    let module = shader(
+        &ctx.gpu.device,
+        "outline edges",
+        include_str!("outline.wgsl"),
+    );
+    let buffers = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<EdgeRecord>() as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &EDGE_ATTRIBUTES,
+    })];
+    PassSpec {
+        buffers: &buffers,
+        // Drawn nearer than the surface (EDGE_PULL), over whatever lies behind the
+        // outline; not written, so that what is drawn later behind it still shows.
+        depth: Some((wgpu::CompareFunction::Greater, false)),
+        ..PassSpec::new("outline edges", &module, "vs_outline", "fs_outline")
+    }
+    .build(&ctx.gpu.device, ctx.frame_layout)
+}
+
+/// Outline edges uploaded for drawing after their surface.
+pub(crate) struct OutlineLines {
+    pipeline: wgpu::RenderPipeline,
+    buffer: wgpu::Buffer,
+    count: u32,
+}
+
+impl OutlineLines {
+    /// `edges` uploaded, drawn by `pipeline` ([`outline_pipeline`]); `None` when there
+    /// are none.
+    pub fn new(gpu: &Gpu, edges: &[OutlineEdge], pipeline: &wgpu::RenderPipeline) -> Option<Self> {
+        let records: Vec<EdgeRecord> = edges.iter().map(EdgeRecord::from).collect();
+        (!records.is_empty()).then(|| OutlineLines {
+            pipeline: pipeline.clone(),
+            buffer: gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("outline edges"),
+                    contents: bytemuck::cast_slice(&records),
+                    usage: wgpu::BufferUsages::VERTEX,
+                }),
+            count: records.len() as u32,
+        })
+    }
+}
+
+impl Drawable for OutlineLines {
+    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = frame.begin_pass(encoder, "outline edges");
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, frame.frame_bind_group, &[]);
+        pass.set_vertex_buffer(0, self.buffer.slice(..));
+        pass.draw(0..6, 0..self.count);
+    }
+
+    fn triangles(&self) -> usize {
+        0
+    }
+
+    fn bytes(&self) -> u64 {
+        self.buffer.size()
+    }
+}
