@@ -71,6 +71,16 @@ impl Drawable for FaultTraces {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         if frame.style.faults.is_some() {
             let mut pass = frame.begin_pass(encoder, "fault traces");
+            self.draw_in_pass(frame, &mut pass);
+        }
+    }
+
+    fn single_pass(&self) -> bool {
+        true
+    }
+
+    fn draw_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
+        if frame.style.faults.is_some() {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, frame.frame_bind_group, &[]);
             pass.set_vertex_buffer(0, self.buffer.slice(..));
@@ -140,15 +150,40 @@ impl Edged {
     }
 }
 
-impl Drawable for Edged {
-    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
-        self.inner.encode(frame, encoder);
+impl Edged {
+    /// Draws the outline and traces into `pass`.
+    fn edges_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
         if let Some(outline) = &self.outline {
-            outline.encode(frame, encoder);
+            outline.draw_in_pass(frame, pass);
         }
         if let Some(traces) = &self.traces {
-            traces.encode(frame, encoder);
+            traces.draw_in_pass(frame, pass);
         }
+    }
+}
+
+impl Drawable for Edged {
+    fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
+        if self.inner.single_pass() {
+            let mut pass = frame.begin_pass(encoder, "surface and its edges");
+            self.draw_in_pass(frame, &mut pass);
+            return;
+        }
+        self.inner.encode(frame, encoder);
+        let traced = self.traces.is_some() && frame.style.faults.is_some();
+        if self.outline.is_some() || traced {
+            let mut pass = frame.begin_pass(encoder, "edges");
+            self.edges_in_pass(frame, &mut pass);
+        }
+    }
+
+    fn single_pass(&self) -> bool {
+        self.inner.single_pass()
+    }
+
+    fn draw_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
+        self.inner.draw_in_pass(frame, pass);
+        self.edges_in_pass(frame, pass);
     }
 
     fn triangles(&self) -> usize {

@@ -132,6 +132,15 @@ pub trait Drawable: Send {
     fn draws_alone(&self) -> bool {
         true
     }
+    /// Whether it draws in one pass of the frame's targets, with the frame's bind
+    /// group at 0 ([`Drawable::draw_in_pass`]): then what is drawn over it (its
+    /// outline, its fault traces) shares that pass. On the CPU rasterizers a pass of
+    /// its own costs a whole frame's worth of tiles.
+    fn single_pass(&self) -> bool {
+        false
+    }
+    /// Records its draws into `pass`, where [`Drawable::single_pass`] holds.
+    fn draw_in_pass(&self, _frame: &FrameTargets, _pass: &mut wgpu::RenderPass<'_>) {}
 }
 
 /// What a triangle-list pipeline is built from beyond the frame's shared layout, so

@@ -26,7 +26,8 @@ use super::{Drawable, FrameTargets, PipelineContext};
 use crate::Gpu;
 
 /// An outline edge as the shader reads it: its ends, the point one cell inward with
-/// the grid line's index, and its neighbours' far ends.
+/// the grid line's index, and its neighbours' far ends, each with 1 where the outline
+/// goes on straight there (no corner to split: the shader need not project it).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct EdgeRecord {
@@ -34,24 +35,47 @@ struct EdgeRecord {
     inward: [f32; 3],
     line: f32,
     before: [f32; 3],
+    straight_before: f32,
     after: [f32; 3],
+    straight_after: f32,
+}
+
+/// Whether `p`, `q` and `r` lie on one straight line, in that order: a straight
+/// line projects to a straight line.
+fn straight(p: [f32; 3], q: [f32; 3], r: [f32; 3]) -> bool {
+    let u: [f32; 3] = std::array::from_fn(|a| q[a] - p[a]);
+    let v: [f32; 3] = std::array::from_fn(|a| r[a] - q[a]);
+    let dot: f32 = (0..3).map(|a| u[a] * v[a]).sum();
+    let cross = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let norm = |w: [f32; 3]| w.iter().map(|x| x * x).sum::<f32>().sqrt();
+    dot > 0.0 && norm(cross) <= 1.0e-5 * norm(u) * norm(v)
 }
 
 impl From<&OutlineEdge> for EdgeRecord {
     fn from(e: &OutlineEdge) -> Self {
+        let [a, b] = e.ends;
         EdgeRecord {
             ends: e.ends,
             inward: e.inward,
             line: e.line as f32,
             before: e.before,
+            straight_before: f32::from(u8::from(straight(e.before, a, b))),
             after: e.after,
+            straight_after: f32::from(u8::from(straight(a, b, e.after))),
         }
     }
 }
 
 const EDGE_ATTRIBUTES: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
-    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x3, 4 => Float32x3
+    0 => Float32x3, 1 => Float32x3, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4
 ];
+
+/// The quad of an edge: corners 0 1 2 and 0 2 3 of four (`outline.wgsl`).
+const QUAD_INDICES: [u16; 6] = [0, 1, 2, 0, 2, 3];
 
 /// The pipeline that draws outline edges, shared by a technique's drawables.
 pub(crate) fn outline_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
@@ -79,6 +103,8 @@ pub(crate) fn outline_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
 pub(crate) struct OutlineLines {
     pipeline: wgpu::RenderPipeline,
     buffer: wgpu::Buffer,
+    /// [`QUAD_INDICES`]: four vertices an edge, shaded once each.
+    quad: wgpu::Buffer,
     count: u32,
 }
 
@@ -96,6 +122,13 @@ impl OutlineLines {
                     contents: bytemuck::cast_slice(&records),
                     usage: wgpu::BufferUsages::VERTEX,
                 }),
+            quad: gpu
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("outline quad"),
+                    contents: bytemuck::cast_slice(&QUAD_INDICES),
+                    usage: wgpu::BufferUsages::INDEX,
+                }),
             count: records.len() as u32,
         })
     }
@@ -104,10 +137,19 @@ impl OutlineLines {
 impl Drawable for OutlineLines {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "outline edges");
+        self.draw_in_pass(frame, &mut pass);
+    }
+
+    fn single_pass(&self) -> bool {
+        true
+    }
+
+    fn draw_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_vertex_buffer(0, self.buffer.slice(..));
-        pass.draw(0..6, 0..self.count);
+        pass.set_index_buffer(self.quad.slice(..), wgpu::IndexFormat::Uint16);
+        pass.draw_indexed(0..6, 0, 0..self.count);
     }
 
     fn triangles(&self) -> usize {
@@ -115,6 +157,6 @@ impl Drawable for OutlineLines {
     }
 
     fn bytes(&self) -> u64 {
-        self.buffer.size()
+        self.buffer.size() + self.quad.size()
     }
 }

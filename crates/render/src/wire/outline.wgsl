@@ -12,34 +12,74 @@ struct OutlineOut {
     @location(3) depth_fraction: f32,
 }
 
-// Six vertices per edge (an instance): the two triangles of the quad around it,
-// reaching past its ends to cover the pixels around the corners it turns.
+// Corner q (0 1 2 3 = (a, in), (b, in), (b, out), (a, out)) of the quad beside edge a b
+// (clip positions in front of the near plane) on its `outward` side (a unit window
+// direction): from half a pixel inside the edge (pixels centred on it are the
+// surface's) to `reach` pixels out, lengthened by `ends.x` and `ends.y` pixels past
+// a and b. Depths are extrapolated along the edge, as quad_corner does.
+fn outline_corner(a: vec4<f32>, b: vec4<f32>, q: u32, outward: vec2<f32>, reach: f32, ends: vec2<f32>) -> vec4<f32> {
+    let pa = window(a);
+    let pb = window(b);
+    let len = length(pb - pa);
+    let along = select(vec2<f32>(1.0, 0.0), (pb - pa) / len, len > 1.0e-6);
+    let at_b = q == 1u || q == 2u;
+    let past = select(-ends.x, ends.y, at_b);
+    let c = select(a, b, at_b);
+    let za = a.z / a.w;
+    let zb = b.z / b.w;
+    let z = select(za, zb, at_b) + past * (zb - za) / max(len, 1.0e-6);
+    let across = select(-0.5, reach, q >= 2u);
+    let offset = clip_offset(past * along + across * outward, c.w);
+    return vec4<f32>(c.xy + offset.xy, select(z, c.z / c.w, len <= 1.0e-6) * c.w, c.w);
+}
+
+// Where the edge's neighbour at one end lies on screen, for the bisector there: its far
+// end `p` projected where the outline turns, a point straight on along the edge where
+// it does not (`straight` 1: nothing to project, the split is the perpendicular).
+fn join_point(p: vec4<f32>, end: vec2<f32>, e: vec2<f32>) -> vec2<f32> {
+    if p.w > 0.5 {
+        return end + e;
+    }
+    let c = clip(world(p.xyz));
+    return select(end + e, window(c), c.w > 1.0e-6);
+}
+
+// Four vertices per edge (an instance, drawn as two triangles): the quad beside it, on
+// the side away from the surface, reaching past its ends where the outline turns (the
+// corner's pixels up to the bisector) and a pixel elsewhere.
 @vertex
 fn vs_outline(
-    @builtin(vertex_index) vi: u32,
+    @builtin(vertex_index) q: u32,
     @location(0) a: vec3<f32>,
     @location(1) b: vec3<f32>,
     @location(2) inward: vec4<f32>,
-    @location(3) before: vec3<f32>,
-    @location(4) after: vec3<f32>,
+    @location(3) before: vec4<f32>,
+    @location(4) after: vec4<f32>,
 ) -> OutlineOut {
     let ca = pulled_clip(a);
     let cb = pulled_clip(b);
     let ci = clip(world(inward.xyz));
-    let c0 = clip(world(before));
-    let c1 = clip(world(after));
     // An edge reaching behind the eye is left out: its window positions mean nothing.
-    if min(min(ca.w, cb.w), min(ci.w, min(c0.w, c1.w))) <= 1.0e-6 {
+    if min(min(ca.w, cb.w), ci.w) <= 1.0e-6 {
         return OutlineOut(CULLED, vec4<f32>(0.0), vec4<f32>(0.0), vec3<f32>(0.0), 0.0);
     }
-    let q = select(vi, select(vi - 2u, 0u, vi == 3u), vi >= 3u);
-    let position = quad_corner(ca, cb, q, 0.5 * frame.line.x + 1.5);
+    let wa = window(ca);
+    let wb = window(cb);
+    let wi = window(ci);
+    let len = length(wb - wa);
+    let e = select(vec2<f32>(1.0, 0.0), (wb - wa) / len, len > 1.0e-6);
+    let n = vec2<f32>(-e.y, e.x);
+    let outward = select(n, -n, dot(wi - wa, n) > 0.0);
+    // Coverage ends a pixel past the line's half width (a two-pixel box at most).
+    let reach = 0.5 * frame.line.x + 1.0;
+    let ends = vec2<f32>(select(reach, 1.0, before.w > 0.5), select(reach, 1.0, after.w > 0.5));
+    let position = outline_corner(ca, cb, q, outward, reach, ends);
     let at_b = q == 1u || q == 2u;
     return OutlineOut(
         position,
-        vec4<f32>(window(ca), window(cb)),
-        vec4<f32>(window(c0), window(c1)),
-        vec3<f32>(window(ci), inward.w),
+        vec4<f32>(wa, wb),
+        vec4<f32>(join_point(before, wa, -e), join_point(after, wb, e)),
+        vec3<f32>(wi, inward.w),
         depth_fraction(world(select(a, b, at_b))),
     );
 }

@@ -299,6 +299,14 @@ impl IndexedDraw {
 impl Drawable for IndexedDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "indexed mesh");
+        self.draw_in_pass(frame, &mut pass);
+    }
+
+    fn single_pass(&self) -> bool {
+        true
+    }
+
+    fn draw_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
@@ -394,6 +402,14 @@ struct PulledDraw {
 impl Drawable for PulledDraw {
     fn encode(&self, frame: &FrameTargets, encoder: &mut wgpu::CommandEncoder) {
         let mut pass = frame.begin_pass(encoder, "texgs");
+        self.draw_in_pass(frame, &mut pass);
+    }
+
+    fn single_pass(&self) -> bool {
+        true
+    }
+
+    fn draw_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipelines[texture_variant(frame)]);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         for (group, vertices) in &self.draws {
