@@ -25,15 +25,6 @@ const TOL: f32 = 0.5;
 const WHOLE_PX: f32 = 2.25;
 const CLOSE_PX: f32 = 12.0;
 
-/// The texture techniques: all draw major lines from the global coordinates.
-const MODES: [WireMode; 4] = [
-    WireMode::Global,
-    WireMode::Quad,
-    WireMode::Tex,
-    WireMode::TexGs,
-];
-const FORMS: [Coverage; 2] = [Coverage::Texture, Coverage::Analytic];
-
 fn flat() -> PlaneGrid {
     PlaneGrid {
         ni: 400,
@@ -143,7 +134,7 @@ fn seen_whole_the_cell_lines_fade_and_every_tenth_keeps_its_width_and_place() {
     let proj = Projector::new(&view);
     let mut r = renderer();
     let backend = backend(&r);
-    for mode in MODES {
+    for mode in TEXTURE_MODES {
         for coverage in FORMS {
             let label = format!("{backend} {} {coverage:?}", mode.name());
             let frame = draw(&mut r, &mesh, mode, &view, &style(coverage));
@@ -166,7 +157,7 @@ fn close_up_every_cell_line_is_back_at_full_width() {
     let proj = Projector::new(&view);
     let mut r = renderer();
     let backend = backend(&r);
-    for mode in MODES {
+    for mode in TEXTURE_MODES {
         for coverage in FORMS {
             let label = format!("{backend} {} {coverage:?}", mode.name());
             let frame = draw(&mut r, &mesh, mode, &view, &style(coverage));
@@ -366,7 +357,7 @@ fn fault_traces_keep_their_own_width_over_the_cell_lines_at_every_zoom() {
     let mesh = faulted(&grid);
     let mut r = renderer();
     let backend = backend(&r);
-    for mode in MODES {
+    for mode in TEXTURE_MODES {
         let drawable = r
             .prepare(&mesh, mode)
             .unwrap_or_else(|e| panic!("prepare {}: {e}", mode.name()));

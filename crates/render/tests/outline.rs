@@ -22,13 +22,6 @@ const CELL: f32 = 10.0;
 const THICKNESS: [f32; 4] = [1.0, 2.0, 3.0, 5.0];
 /// Widths within this of the thickness (pixels), as the issue asks of every line.
 const TOL: f32 = 0.5;
-const MODES: [WireMode; 4] = [
-    WireMode::Global,
-    WireMode::Quad,
-    WireMode::Tex,
-    WireMode::TexGs,
-];
-const FORMS: [Coverage; 2] = [Coverage::Texture, Coverage::Analytic];
 /// The hole's cells.
 const HOLE: [[u32; 2]; 4] = [[5, 5], [6, 5], [5, 6], [6, 6]];
 
@@ -166,7 +159,7 @@ fn check(
     let px = |[a, b]: [f32; 2]| proj.to_px(grid.point(a, b));
     let surface = surface_mask(r, mesh, &view);
     let on_surface = |x: i64, y: i64| surface[y as usize * SIZE as usize + x as usize];
-    for mode in MODES {
+    for mode in TEXTURE_MODES {
         let drawable = r.prepare(mesh, mode).unwrap();
         for form in FORMS {
             for sigma in THICKNESS {

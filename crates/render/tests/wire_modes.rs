@@ -17,7 +17,9 @@ use support::*;
 
 const COVERAGES: [Coverage; 2] = [Coverage::Texture, Coverage::Analytic];
 
-/// Draws `mesh` with `mode` in the measuring style.
+/// Draws `mesh` with `mode` in the measuring style: the lines the technique draws on
+/// the surface, without the outline's outer half (found from cell faces, which not
+/// every mesh here has; tests/outline.rs measures it).
 fn draw(
     r: &mut Renderer,
     mesh: &SurfaceMesh,
@@ -27,7 +29,7 @@ fn draw(
     coverage: Coverage,
 ) -> image::RgbaImage {
     let drawable = r
-        .prepare(mesh, mode)
+        .prepare_band(mesh, mode, None)
         .unwrap_or_else(|e| panic!("prepare {}: {e}", mode.name()));
     r.render(
         &[drawable.as_ref()],

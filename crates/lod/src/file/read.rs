@@ -123,45 +123,41 @@ impl LodFile {
             if !cells_fit {
                 return Err(bad(at, &format!("layer {l}: cells outside the file")));
             }
-            let sides_fit = if layer.side_faces == 0 {
-                layer.sides_offset == 0 && layer.side_vertices == 0
-            } else {
-                layer.sides_offset >= HEADER_BYTES as u64
-                    && layer.sides_offset.is_multiple_of(8)
-                    && layer
-                        .sides_offset
-                        .checked_add(layer_sides_bytes(layer.side_vertices, layer.side_faces))
-                        .is_some_and(|end| end <= len)
+            // A section of `bytes` at `offset`: none (offset 0) when it has no items,
+            // else 8-byte aligned, after the header and within the file.
+            let fits = |items: u32, offset: u64, bytes: u64| {
+                if items == 0 {
+                    offset == 0
+                } else {
+                    offset >= HEADER_BYTES as u64
+                        && offset.is_multiple_of(8)
+                        && offset.checked_add(bytes).is_some_and(|end| end <= len)
+                }
             };
+            let sides_fit = fits(
+                layer.side_faces,
+                layer.sides_offset,
+                layer_sides_bytes(layer.side_vertices, layer.side_faces),
+            ) && (layer.side_faces > 0 || layer.side_vertices == 0);
             if !sides_fit {
                 return Err(bad(at, &format!("layer {l}: sides outside the file")));
             }
-            let faults_fit = if layer.fault_segments == 0 {
-                layer.faults_offset == 0
-            } else {
-                layer.faults_offset >= HEADER_BYTES as u64
-                    && layer.faults_offset.is_multiple_of(8)
-                    && layer
-                        .faults_offset
-                        .checked_add(SEGMENT_BYTES * u64::from(layer.fault_segments))
-                        .is_some_and(|end| end <= len)
-            };
+            let faults_fit = fits(
+                layer.fault_segments,
+                layer.faults_offset,
+                SEGMENT_BYTES * u64::from(layer.fault_segments),
+            );
             if !faults_fit {
                 return Err(bad(
                     at,
                     &format!("layer {l}: fault traces outside the file"),
                 ));
             }
-            let outline_fit = if layer.outline_edges == 0 {
-                layer.outline_offset == 0
-            } else {
-                layer.outline_offset >= HEADER_BYTES as u64
-                    && layer.outline_offset.is_multiple_of(8)
-                    && layer
-                        .outline_offset
-                        .checked_add(4 * OUTLINE_EDGE_WORDS as u64 * u64::from(layer.outline_edges))
-                        .is_some_and(|end| end <= len)
-            };
+            let outline_fit = fits(
+                layer.outline_edges,
+                layer.outline_offset,
+                4 * OUTLINE_EDGE_WORDS as u64 * u64::from(layer.outline_edges),
+            );
             if !outline_fit {
                 return Err(bad(
                     at,

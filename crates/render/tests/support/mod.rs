@@ -49,7 +49,19 @@ use image::RgbaImage;
 use strata_grid::SurfaceMesh;
 use strata_lod::{BuildOptions, LodFile, build_file};
 use strata_render::glam::{Mat2, Mat4, Vec2, Vec3};
-use strata_render::{Camera, Coverage, Renderer, Style, View};
+use strata_render::{Camera, Coverage, Renderer, Style, View, WireMode};
+
+/// The texture techniques: all draw their lines from texture coordinates, major lines
+/// and the outline's outer half from the global ones.
+pub const TEXTURE_MODES: [WireMode; 4] = [
+    WireMode::Global,
+    WireMode::Quad,
+    WireMode::Tex,
+    WireMode::TexGs,
+];
+
+/// Both coverage forms.
+pub const FORMS: [Coverage; 2] = [Coverage::Texture, Coverage::Analytic];
 
 /// The background of measured frames: pure blue, never a surface colour.
 pub const BACKGROUND: [f32; 4] = [0.0, 0.0, 1.0, 1.0];
@@ -133,14 +145,17 @@ pub struct Frame {
 
 impl Frame {
     /// Reads a frame drawn with [`measuring_style`]. Checks that surface pixels are
-    /// grey (the convention holds).
+    /// grey (the convention holds). The outline's outer half, drawn beyond the surface,
+    /// blends the white wire into the blue background: such pixels (equal red and
+    /// green, full blue) are off the surface.
     pub fn new(image: &RgbaImage) -> Self {
         let (width, height) = (image.width() as usize, image.height() as usize);
         let mut coverage = Vec::with_capacity(width * height);
         let mut surface = Vec::with_capacity(width * height);
         for p in image.pixels() {
             let [r, g, b, _] = p.0;
-            let on = i32::from(b) - i32::from(r) < 128;
+            let over_background = b >= 254 && r.abs_diff(g) <= 2 && b > r.saturating_add(2);
+            let on = !over_background && i32::from(b) - i32::from(r) < 128;
             if on {
                 assert!(
                     r.abs_diff(g) <= 2 && r.abs_diff(b) <= 2,
