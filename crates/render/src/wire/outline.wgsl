@@ -70,6 +70,11 @@ fn vs_outline(
     let e = select(vec2<f32>(1.0, 0.0), (wb - wa) / len, len > 1.0e-6);
     let n = vec2<f32>(-e.y, e.x);
     let outward = select(n, -n, dot(wi - wa, n) > 0.0);
+    // An edge whose line is not drawn at this level (cells small on screen, the line
+    // not a major one) draws nothing.
+    if outline_level(inward.w, abs(dot(wi - wa, n))).y <= 0.0 {
+        return OutlineOut(CULLED, vec4<f32>(0.0), vec4<f32>(0.0), vec3<f32>(0.0), 0.0);
+    }
     // Coverage ends a pixel past the line's half width (a two-pixel box at most).
     let reach = 0.5 * frame.line.x + 1.0;
     let ends = vec2<f32>(select(reach, 1.0, before.w > 0.5), select(reach, 1.0, after.w > 0.5));
@@ -93,15 +98,15 @@ fn join_normal(e: vec2<f32>, other: vec2<f32>) -> vec2<f32> {
     return select(e, normalize(m), length(m) > 1.0e-4);
 }
 
-// Coverage of a pixel `d` px from grid line `line`, whose cells are `cell_px` wide on
-// screen across it, as (minor, major): cell_lines' levels, ranks, fading and coverage
-// for a line known in advance, the offset into the line's own half period so that
-// no line beyond it is seen.
-fn outline_lines(line: f32, d: f32, cell_px: f32, a: f32) -> vec2<f32> {
-    let grad = 2.0 / max(cell_px, 1.0e-6);
+// How grid line `line`, whose cells are `cell_px` wide on screen across it, is drawn:
+// x the scale of its level's coordinate, y its opacity (0: not drawn, not a line of
+// the level drawn or faded out), z 1 for a major line. cell_lines' levels, ranks and
+// fading for a line known in advance; constant along an outline edge, so that the
+// vertex shader leaves out edges whose line is not drawn.
+fn outline_level(line: f32, cell_px: f32) -> vec3<f32> {
     let n = frame.major.x;
     if n < 1.5 {
-        return vec2<f32>(coverage(2.0 * line + 1.0 + min(d * grad, 1.0), grad, a), 0.0);
+        return vec3<f32>(1.0, 1.0, 0.0);
     }
     var level = 0.0;
     if cell_px <= frame.major.y {
@@ -109,7 +114,7 @@ fn outline_lines(line: f32, d: f32, cell_px: f32, a: f32) -> vec2<f32> {
     }
     let step = level_scale(level, n);
     if !is_multiple(line, step) {
-        return vec2<f32>(0.0);
+        return vec3<f32>(step, 0.0, 0.0);
     }
     let index = round(line / step);
     var rank = level;
@@ -117,9 +122,19 @@ fn outline_lines(line: f32, d: f32, cell_px: f32, a: f32) -> vec2<f32> {
         rank = select(level + 1.0, 2.0, level < 1.0 && is_multiple(index, n * n));
     }
     let scale = level_scale(rank, n);
+    let opacity = select(line_fade(scale * cell_px), 1.0, rank > 1.5);
+    return vec3<f32>(scale, opacity, select(0.0, 1.0, rank > 0.5));
+}
+
+// Coverage of a pixel `d` px from grid line `line` drawn as `level` says (see
+// outline_level), as (minor, major): the offset is kept within the line's own half
+// period, so that no line beyond it is seen.
+fn outline_lines(line: f32, d: f32, cell_px: f32, a: f32, level: vec3<f32>) -> vec2<f32> {
+    let grad = 2.0 / max(cell_px, 1.0e-6);
+    let scale = level.x;
     let c = coverage(2.0 * line / scale + 1.0 + min(d * grad / scale, 1.0), grad / scale, a);
-    let w = c * select(line_fade(scale * cell_px), 1.0, rank > 1.5);
-    return select(vec2<f32>(w, 0.0), vec2<f32>(0.0, w), rank > 0.5);
+    let w = c * level.y;
+    return select(vec2<f32>(w, 0.0), vec2<f32>(0.0, w), level.z > 0.5);
 }
 
 @fragment
@@ -152,7 +167,8 @@ fn fs_outline(in: OutlineOut) -> @location(0) vec4<f32> {
         discard;
     }
     let d = segment_distance(p, wa, wb);
-    let c = outline_lines(in.inward.z, d, abs(cell_px), in.depth_fraction);
+    let level = outline_level(in.inward.z, abs(cell_px));
+    let c = outline_lines(in.inward.z, d, abs(cell_px), in.depth_fraction, level);
     let major = c.y > 0.0;
     let color = select(frame.wire_color, frame.major_color, major);
     let alpha = max(c.x, c.y) * color.a;
