@@ -114,35 +114,74 @@ pub fn outline_edges(mesh: &SurfaceMesh) -> Vec<OutlineEdge> {
             }
         }
     }
+    // The faces of a surface are found in a dense table over the (i, j) box of all
+    // faces, not a hash map: a part of a large model holds millions.
+    let range = |axis: usize| {
+        let values = faces.iter().map(|(c, _)| c[axis]);
+        let lo = values.clone().min().unwrap_or(0);
+        (lo, values.max().map_or(0, |hi| hi + 1 - lo) as usize)
+    };
+    let mut table = Columns {
+        origin: [range(0).0, range(1).0],
+        ni: range(0).1,
+        slot: vec![u32::MAX; range(0).1 * range(1).1],
+    };
     let mut out = Vec::new();
-    let mut surface: HashMap<[u32; 2], usize> = HashMap::new();
     let mut start = 0;
-    for (n, (cell, _)) in faces.iter().enumerate() {
-        if surface.insert([cell[0], cell[1]], n).is_some() {
+    for n in 0..faces.len() {
+        let at = table.at(faces[n].0).unwrap_or(0);
+        if table.slot[at] != u32::MAX {
             // The column again: the next surface starts here.
-            surface.clear();
-            surface_outline(mesh, &faces[start..n], &mut out);
+            surface_outline(mesh, &faces, start..n, &table, &mut out);
+            table.clear(&faces[start..n]);
             start = n;
-            surface.insert([cell[0], cell[1]], n);
         }
+        table.slot[at] = n as u32;
     }
-    surface_outline(mesh, &faces[start..], &mut out);
+    surface_outline(mesh, &faces, start..faces.len(), &table, &mut out);
     out.retain(|e| !walls.contains(&key(e.ends[0], e.ends[1])));
     out
 }
 
-/// Adds the outline edges of one surface's `faces` to `out`, linked to their
-/// neighbours.
-fn surface_outline(mesh: &SurfaceMesh, faces: &[([u32; 3], [u32; 4])], out: &mut Vec<OutlineEdge>) {
+/// Per column of the faces' (i, j) box, the index of the current surface's face there.
+struct Columns {
+    origin: [u32; 2],
+    ni: usize,
+    slot: Vec<u32>,
+}
+
+impl Columns {
+    /// Where column `(i, j)` of `cell` is held; `None` outside the box.
+    fn at(&self, cell: [u32; 3]) -> Option<usize> {
+        let i = cell[0].checked_sub(self.origin[0])? as usize;
+        let j = cell[1].checked_sub(self.origin[1])? as usize;
+        (i < self.ni && (j + 1) * self.ni <= self.slot.len()).then_some(j * self.ni + i)
+    }
+
+    /// Empties the columns of `faces`.
+    fn clear(&mut self, faces: &[([u32; 3], [u32; 4])]) {
+        for (cell, _) in faces {
+            if let Some(at) = self.at(*cell) {
+                self.slot[at] = u32::MAX;
+            }
+        }
+    }
+}
+
+/// Adds the outline edges of one surface, `faces[surface]` (held in `table`), to
+/// `out`, linked to their neighbours.
+fn surface_outline(
+    mesh: &SurfaceMesh,
+    faces: &[([u32; 3], [u32; 4])],
+    surface: std::ops::Range<usize>,
+    table: &Columns,
+    out: &mut Vec<OutlineEdge>,
+) {
     let at = |v: u32| mesh.positions[v as usize];
-    let columns: HashMap<[u32; 2], [u32; 3]> = faces
-        .iter()
-        .map(|(cell, _)| ([cell[0], cell[1]], *cell))
-        .collect();
     let first = out.len();
     // Per edge: its cell and its first and second node in the (i, j) index plane.
     let mut nodes: Vec<([u32; 2], [[u32; 2]; 2])> = Vec::new();
-    for &(cell, corners) in faces {
+    for &(cell, corners) in &faces[surface] {
         for Side {
             step,
             corners: side,
@@ -155,8 +194,10 @@ fn surface_outline(mesh: &SurfaceMesh, faces: &[([u32; 3], [u32; 4])], out: &mut
             let has_neighbour = u32::try_from(neighbour[0])
                 .ok()
                 .zip(u32::try_from(neighbour[1]).ok())
-                .and_then(|(i, j)| columns.get(&[i, j]))
-                .is_some_and(|c| c[2] == cell[2]);
+                .and_then(|(i, j)| table.at([i, j, cell[2]]))
+                .map(|slot| table.slot[slot])
+                .and_then(|f| faces.get(f as usize))
+                .is_some_and(|(c, _)| c[2] == cell[2]);
             if has_neighbour {
                 continue;
             }
