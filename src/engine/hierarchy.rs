@@ -12,7 +12,7 @@ use strata_grid::outline::OutlineEdge;
 use strata_lod::{CellCover, LodFile, ViewPoint};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
-use strata_render::wire::{Drawable, Family};
+use strata_render::wire::Drawable;
 use strata_render::{
     Camera, CellDraw, IsolineOptions, Isolines, Output, RangeAdjust, Renderer, TiledCells, View,
     WireMode,
@@ -299,7 +299,7 @@ impl Hierarchy {
             .map(|sides| faces_in_view(sides, &camera, aspect, true))
             .filter(|shown| !shown.is_empty());
         let seconds = start.elapsed().as_secs_f64();
-        let notes = self.describe(&chosen, pixels, seconds);
+        let notes = self.describe(&chosen, pixels, seconds, inner.contains(&true));
         Ok(Plan {
             camera,
             chosen,
@@ -313,7 +313,7 @@ impl Hierarchy {
     /// surfaces, when the wireframe is drawn and no side walls go down from it.
     fn prepare_outline(&mut self, renderer: &mut Renderer) -> Result<()> {
         if self.outline.is_none() {
-            let wired = self.wire.family() == Family::Texture && self.wire != WireMode::None;
+            let wired = self.wire.draws_edges();
             let edges: Vec<OutlineEdge> = match self.outer_surfaces() {
                 outer if wired && self.sides.is_none() => outer
                     .into_iter()
@@ -330,11 +330,16 @@ impl Hierarchy {
         Ok(())
     }
 
+    /// The layer surfaces of the file the scene draws, top to bottom.
+    fn drawn_surfaces(&self) -> Vec<usize> {
+        (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect()
+    }
+
     /// The outer surfaces of the stack drawn, its top and its bottom: those between
     /// show only at its rims and fault walls, and drawing their lines too would
     /// multiply the cost by the layers.
     fn outer_surfaces(&self) -> Vec<usize> {
-        let drawn: Vec<usize> = (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect();
+        let drawn = self.drawn_surfaces();
         let mut outer: Vec<usize> = drawn
             .first()
             .into_iter()
@@ -349,7 +354,7 @@ impl Hierarchy {
     /// neither its top nor its bottom, and closed by side faces. Only the faces of
     /// those that the layers above and below leave open can be seen.
     fn inner_surfaces(&self) -> Vec<bool> {
-        let drawn: Vec<usize> = (0..self.drawn.len()).filter(|&l| self.drawn[l]).collect();
+        let drawn = self.drawn_surfaces();
         let mut inner = vec![false; self.drawn.len()];
         if self.sides.is_some() && drawn.len() > 2 {
             for &l in &drawn[1..drawn.len() - 1] {
@@ -360,8 +365,15 @@ impl Hierarchy {
     }
 
     /// The nodes `chosen` at `pixels` of error, in words: how many of the drawn
-    /// layers' full-resolution triangles, and per level.
-    fn describe(&self, chosen: &[u32], pixels: f32, seconds: f64) -> Vec<Note> {
+    /// layers' full-resolution triangles, and per level; whether the inner surfaces'
+    /// hidden nodes were left out (`inner_left_out`).
+    fn describe(
+        &self,
+        chosen: &[u32],
+        pixels: f32,
+        seconds: f64,
+        inner_left_out: bool,
+    ) -> Vec<Note> {
         let file = &self.file;
         let mut per_level = BTreeMap::<u32, (usize, usize)>::new();
         for &i in chosen {
@@ -385,7 +397,7 @@ impl Hierarchy {
             file.nodes().len(),
             self.roots.len(),
             file.layers().len(),
-            if self.inner_surfaces().contains(&true) {
+            if inner_left_out {
                 " (their inner faces hidden by the sides left out)"
             } else {
                 ""

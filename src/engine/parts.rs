@@ -8,7 +8,6 @@ use strata_grid::outline::{OutlineEdge, outline_edges};
 use strata_grid::{CornerPointGrid, SurfaceMesh};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
-use strata_render::wire::Family;
 use strata_render::{HiddenLines, IsolineOptions, Output, Renderer, WireMode};
 
 use super::whole::{colouring, corner_field, field_options, scene_options};
@@ -183,7 +182,7 @@ impl Parts {
         let faults = style.faults.is_some();
         // The outline's outer half, which the texture techniques draw, unless the
         // scene's side walls (a part of their own) go down from the whole outline.
-        let wired = wire.family() == Family::Texture && wire != WireMode::None && !options.sides;
+        let wired = wire.draws_edges() && !options.sides;
         let ny = grid.dims().ny;
         // The fault traces and outline edges on a band's border with the band before,
         // which neither finds alone, drawn after the band.

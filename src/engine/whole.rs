@@ -5,7 +5,7 @@ use strata_grid::SurfaceMesh;
 use strata_grid::outline::outline_edges;
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
-use strata_render::wire::{Drawable, Family};
+use strata_render::wire::Drawable;
 use strata_render::{IsolineOptions, Output, Renderer, WireMode};
 
 use super::decimated::{self, Decimation};
@@ -66,7 +66,7 @@ impl Whole {
         let mut notes = Vec::new();
         // The outline's outer half (drawn by the texture techniques), unless side
         // walls go down from it: on a decimated surface, the original's.
-        let outlined = wire.family() == Family::Texture && wire != WireMode::None && !options.sides;
+        let outlined = wire.draws_edges() && !options.sides;
         let mut original_outline = Vec::new();
         let (mesh, range, mut cells) = match decimation {
             Some(decimation) => {

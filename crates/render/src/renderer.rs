@@ -326,7 +326,7 @@ impl Renderer {
             let draw = technique.prepare(&self.gpu, mesh)?;
             // The shaded surface alone draws no lines at all.
             Ok(match edges {
-                Some(edges) if mode.family() == wire::Family::Texture && mode != WireMode::None => {
+                Some(edges) if mode.draws_edges() => {
                     Box::new(wire::Edged::new(&self.gpu, draw, mesh, edges, cut_rows))
                 }
                 _ => draw,

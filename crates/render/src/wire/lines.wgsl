@@ -25,27 +25,35 @@ fn clip_offset(px: vec2<f32>, w: f32) -> vec4<f32> {
     return vec4<f32>(2.0 * px.x * frame.viewport.z * w, -2.0 * px.y * frame.viewport.w * w, 0.0, 0.0);
 }
 
-// Corner q (0 1 2 3 = (a, -), (b, -), (b, +), (a, +)) of the screen-aligned quad around
-// segment a b (clip positions in front of the near plane): the segment lengthened and
-// widened by `reach` pixels (Bærentzen et al.'s equation 4). The corners' depths are
-// extrapolated along the segment, where window depth is affine, so that the quad's
-// depth along the segment is the edge's own; moving the ends in x and y alone would
-// stretch the edge's depth over the longer quad and sink its near half into the surface.
-fn quad_corner(a: vec4<f32>, b: vec4<f32>, q: u32, reach: f32) -> vec4<f32> {
+// Corner q (0 1 2 3 = (a, -), (b, -), (b, +), (a, +)) of a screen-aligned quad along
+// segment a b (clip positions in front of the near plane): from `across.x` to
+// `across.y` pixels along the window direction `side`, and lengthened by `ends.x` and
+// `ends.y` pixels past a and b. The corners' depths are extrapolated along the segment,
+// where window depth is affine, so that the quad's depth along the segment is the
+// edge's own; moving the ends in x and y alone would stretch the edge's depth over the
+// longer quad and sink its near half into the surface.
+fn segment_quad_corner(a: vec4<f32>, b: vec4<f32>, q: u32, side: vec2<f32>, across: vec2<f32>, ends: vec2<f32>) -> vec4<f32> {
     let pa = window(a);
     let pb = window(b);
-    let d = pb - pa;
-    let len = length(d);
-    let along = select(vec2<f32>(1.0, 0.0), d / len, len > 1.0e-6);
-    let across = vec2<f32>(-along.y, along.x);
+    let len = length(pb - pa);
+    let along = select(vec2<f32>(1.0, 0.0), (pb - pa) / len, len > 1.0e-6);
     let at_b = q == 1u || q == 2u;
-    let end = select(-1.0, 1.0, at_b);
+    let past = select(-ends.x, ends.y, at_b);
     let c = select(a, b, at_b);
     let za = a.z / a.w;
     let zb = b.z / b.w;
-    let z = select(za, zb, at_b) + end * (zb - za) * reach / max(len, 1.0e-6);
-    let offset = clip_offset(reach * (end * along + select(-1.0, 1.0, q >= 2u) * across), c.w);
+    let z = select(za, zb, at_b) + past * (zb - za) / max(len, 1.0e-6);
+    let offset = clip_offset(past * along + select(across.x, across.y, q >= 2u) * side, c.w);
     return vec4<f32>(c.xy + offset.xy, select(z, c.z / c.w, len <= 1.0e-6) * c.w, c.w);
+}
+
+// Corner q of the quad around segment a b, lengthened and widened by `reach` pixels
+// (Bærentzen et al.'s equation 4).
+fn quad_corner(a: vec4<f32>, b: vec4<f32>, q: u32, reach: f32) -> vec4<f32> {
+    let d = window(b) - window(a);
+    let along = select(vec2<f32>(1.0, 0.0), normalize(d), length(d) > 1.0e-6);
+    let side = vec2<f32>(-along.y, along.x);
+    return segment_quad_corner(a, b, q, side, vec2<f32>(-reach, reach), vec2<f32>(reach));
 }
 
 // Facing of the triangle a b c, from its clip positions: the sign is the winding on

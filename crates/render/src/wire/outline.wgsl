@@ -12,27 +12,6 @@ struct OutlineOut {
     @location(3) depth_fraction: f32,
 }
 
-// Corner q (0 1 2 3 = (a, in), (b, in), (b, out), (a, out)) of the quad beside edge a b
-// (clip positions in front of the near plane) on its `outward` side (a unit window
-// direction): from half a pixel inside the edge (pixels centred on it are the
-// surface's) to `reach` pixels out, lengthened by `ends.x` and `ends.y` pixels past
-// a and b. Depths are extrapolated along the edge, as quad_corner does.
-fn outline_corner(a: vec4<f32>, b: vec4<f32>, q: u32, outward: vec2<f32>, reach: f32, ends: vec2<f32>) -> vec4<f32> {
-    let pa = window(a);
-    let pb = window(b);
-    let len = length(pb - pa);
-    let along = select(vec2<f32>(1.0, 0.0), (pb - pa) / len, len > 1.0e-6);
-    let at_b = q == 1u || q == 2u;
-    let past = select(-ends.x, ends.y, at_b);
-    let c = select(a, b, at_b);
-    let za = a.z / a.w;
-    let zb = b.z / b.w;
-    let z = select(za, zb, at_b) + past * (zb - za) / max(len, 1.0e-6);
-    let across = select(-0.5, reach, q >= 2u);
-    let offset = clip_offset(past * along + across * outward, c.w);
-    return vec4<f32>(c.xy + offset.xy, select(z, c.z / c.w, len <= 1.0e-6) * c.w, c.w);
-}
-
 // Where the edge's neighbour at one end lies on screen, for the bisector there: its far
 // end `p` projected where the outline turns, a point straight on along the edge where
 // it does not (`straight` 1: nothing to project, the split is the perpendicular).
@@ -78,7 +57,9 @@ fn vs_outline(
     // Coverage ends a pixel past the line's half width (a two-pixel box at most).
     let reach = 0.5 * frame.line.x + 1.0;
     let ends = vec2<f32>(select(reach, 1.0, before.w > 0.5), select(reach, 1.0, after.w > 0.5));
-    let position = outline_corner(ca, cb, q, outward, reach, ends);
+    // From half a pixel inside the edge (pixels centred on it are the surface's) to
+    // `reach` out.
+    let position = segment_quad_corner(ca, cb, q, outward, vec2<f32>(-0.5, reach), ends);
     let at_b = q == 1u || q == 2u;
     return OutlineOut(
         position,

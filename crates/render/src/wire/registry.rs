@@ -215,6 +215,13 @@ impl WireMode {
         self.registration().family
     }
 
+    /// Whether it draws the outline's outer half and fault traces as geometry after
+    /// the surface (`Renderer::prepare`): the texture techniques, whose lines come
+    /// from coordinates, but `none`, which draws no lines.
+    pub fn draws_edges(self) -> bool {
+        self.family() == Family::Texture && self != WireMode::None
+    }
+
     /// What a mesh must carry for it.
     pub fn needs(self) -> Needs {
         self.registration().needs
