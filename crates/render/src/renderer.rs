@@ -5,7 +5,7 @@ pub(crate) mod sampling;
 use std::collections::HashMap;
 
 use bytemuck::{Pod, Zeroable};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use image::RgbaImage;
 use strata_grid::SurfaceMesh;
 
@@ -13,8 +13,8 @@ use crate::isoline::{IsolineOptions, IsolineTechnique, RangeAdjust};
 use crate::overlay::Overlay;
 use crate::timing::{FrameTime, FrameTimer};
 use crate::wire::{
-    self, COLOR_FORMAT, CellDraw, DEPTH_FORMAT, Drawable, FrameTargets, PipelineContext, Technique,
-    WireMode, WireTextureSpec,
+    self, COLOR_FORMAT, CellDraw, DEPTH_FORMAT, Drawable, FrameProjection, FrameTargets,
+    PipelineContext, Technique, WireMode, WireTextureSpec,
 };
 use crate::{Camera, Colormap, Coverage, Error, Gpu, HiddenLines, Result, Scale, Style};
 
@@ -40,6 +40,21 @@ pub struct View {
     pub height: u32,
     /// The scene's bounds (unscaled display frame), from which the depth range is fitted.
     pub bounds: (Vec3, Vec3),
+}
+
+impl View {
+    /// The frame's projection as the shaders apply it: the vertical exaggeration, then
+    /// the view and projection, the depth range fitted to the bounds.
+    pub fn projection(&self) -> FrameProjection {
+        let cam = &self.camera;
+        let (near, far) = cam.depth_range(self.bounds.0, self.bounds.1);
+        let aspect = self.width as f32 / self.height.max(1) as f32;
+        FrameProjection {
+            view_proj: cam.projection(aspect, near, far) * cam.view(),
+            z_scale: cam.z_scale,
+            size: Vec2::new(self.width as f32, self.height as f32),
+        }
+    }
 }
 
 #[repr(C)]
@@ -71,7 +86,6 @@ impl FrameUniforms {
     fn new(view: &View, style: &Style, layers: u32) -> Self {
         let cam = &view.camera;
         let (near, far) = cam.depth_range(view.bounds.0, view.bounds.1);
-        let aspect = view.width as f32 / view.height.max(1) as f32;
         // Light from behind the viewer's right shoulder and above.
         let forward = (cam.target - cam.eye).normalize_or(Vec3::NEG_Z);
         let right = forward.cross(cam.up).normalize_or(Vec3::X);
@@ -81,7 +95,7 @@ impl FrameUniforms {
         FrameUniforms {
             // The shader applies the vertical exaggeration itself (`world` in common.wgsl,
             // which also feeds lighting and attenuation), so no model matrix here.
-            view_proj: (cam.projection(aspect, near, far) * cam.view()).to_cols_array_2d(),
+            view_proj: view.projection().view_proj.to_cols_array_2d(),
             eye: [cam.eye.x, cam.eye.y, cam.eye.z, cam.z_scale],
             light: [light.x, light.y, light.z, 0.35],
             wire_color: style.wire_color,
@@ -672,6 +686,8 @@ impl Renderer {
             width: view.width,
             height: view.height,
             style,
+            projection: view.projection(),
+            queue: &self.gpu.queue,
         };
         for item in items {
             item.encode(&frame, encoder);

@@ -12,6 +12,7 @@ mod idbuffer;
 pub mod labels;
 mod lines;
 mod outline;
+mod outline_chains;
 pub mod reference;
 mod registry;
 mod texture;
@@ -66,6 +67,52 @@ pub struct FrameTargets<'a> {
     pub height: u32,
     /// The frame's style, for techniques whose passes depend on it (hidden lines).
     pub style: &'a Style,
+    /// The frame's projection as the shaders apply it, for drawables that choose on
+    /// the CPU what to draw (outline edges).
+    pub projection: FrameProjection,
+    /// The queue, for what such drawables write before the frame is submitted.
+    pub queue: &'a wgpu::Queue,
+}
+
+/// The projection of a frame: display-frame points to clip space and window pixels,
+/// exactly as `world`, `clip` and `window` in the shaders (common.wgsl, lines.wgsl).
+#[derive(Clone, Copy, Debug)]
+pub struct FrameProjection {
+    /// The view and projection matrix, of exaggerated points.
+    pub view_proj: glam::Mat4,
+    /// The vertical exaggeration.
+    pub z_scale: f32,
+    /// The frame's size in pixels.
+    pub size: glam::Vec2,
+}
+
+impl FrameProjection {
+    /// Clip position of display-frame point `p`.
+    pub fn clip(&self, p: [f32; 3]) -> glam::Vec4 {
+        self.view_proj * glam::Vec4::new(p[0], p[1], p[2] * self.z_scale, 1.0)
+    }
+
+    /// Window position in pixels of clip position `c` (in front of the eye).
+    pub fn window(&self, c: glam::Vec4) -> glam::Vec2 {
+        let ndc = c.truncate().truncate() / c.w;
+        glam::Vec2::new(
+            (0.5 + 0.5 * ndc.x) * self.size.x,
+            (0.5 - 0.5 * ndc.y) * self.size.y,
+        )
+    }
+
+    /// An upper bound of the pixels a displacement of one unit of the exaggerated
+    /// frame (any direction) moves a point on screen at clip depth `w`, for points
+    /// within the frame: the matrix rows' lengths, the depth row's for how perspective
+    /// moves points off the axis.
+    pub fn pixels_per_unit(&self, w: f32) -> f32 {
+        let m = self.view_proj.transpose();
+        let row = |r: glam::Vec4| r.truncate().length();
+        let depth = row(m.w_axis);
+        ((row(m.x_axis) + depth) * 0.5 * self.size.x)
+            .max((row(m.y_axis) + depth) * 0.5 * self.size.y)
+            / w
+    }
 }
 
 impl FrameTargets<'_> {

@@ -4,8 +4,10 @@
 //! # How it works
 //! The texture techniques draw a cell line where the surface is: on an outline edge,
 //! only the half of the line that falls on the surface shows, and a one-pixel outline
-//! nearly vanishes. This pass draws the other half as a screen-space quad per outline
-//! edge, after the surface, depth tested without writing depth. The fragment keeps
+//! nearly vanishes. This pass draws the other half as a screen-space quad per piece
+//! of the outline the frame draws (`outline_chains`: runs of edges along one grid line
+//! merged where they are straight on screen, chosen on the CPU), after the surface,
+//! depth tested without writing depth. The fragment keeps
 //! the pixels on the far side of the edge from the surface, evaluates the line as the
 //! texture techniques evaluate theirs (`cell_lines`: thickness, coverage form, major
 //! lines and their fading, attenuation), from its distance to the edge and the
@@ -18,8 +20,12 @@
 //! or `dist` draw edges) costs what the texture techniques save. The outline is a
 //! fraction of the edges, and this pass draws only those.
 
+use std::cell::RefCell;
+
 use strata_grid::outline::OutlineEdge;
 use wgpu::util::DeviceExt;
+
+use super::outline_chains::{Chosen, OutlineChains};
 
 use super::lines::{PassSpec, shader};
 use super::{Drawable, FrameTargets, PipelineContext};
@@ -55,17 +61,40 @@ fn straight(p: [f32; 3], q: [f32; 3], r: [f32; 3]) -> bool {
     dot > 0.0 && norm(cross) <= 1.0e-5 * norm(u) * norm(v)
 }
 
-impl From<&OutlineEdge> for EdgeRecord {
-    fn from(e: &OutlineEdge) -> Self {
-        let [a, b] = e.ends;
+impl EdgeRecord {
+    /// The record of chosen piece `piece` of `chains`, joined to the pieces chosen
+    /// before and after it in its chain where they are its neighbours (`before`,
+    /// `after`), else to the outline's edges there.
+    fn of(
+        chains: &OutlineChains,
+        piece: Chosen,
+        before: Option<Chosen>,
+        after: Option<Chosen>,
+    ) -> Self {
+        let edges = &chains.edges;
+        let (first, last) = (&edges[piece.start as usize], &edges[piece.end as usize - 1]);
+        let middle = &edges[((piece.start + piece.end) / 2) as usize];
+        let (a, b) = (first.ends[0], last.ends[1]);
+        let before = match before {
+            Some(p) if p.end == piece.start && chains.follows(piece.start) => {
+                edges[p.start as usize].ends[0]
+            }
+            _ => first.before,
+        };
+        let after = match after {
+            Some(p) if p.start == piece.end && chains.follows(p.start) => {
+                edges[p.end as usize - 1].ends[1]
+            }
+            _ => last.after,
+        };
         EdgeRecord {
-            ends: e.ends,
-            inward: e.inward,
-            line: e.line as f32,
-            before: e.before,
-            straight_before: f32::from(u8::from(straight(e.before, a, b))),
-            after: e.after,
-            straight_after: f32::from(u8::from(straight(a, b, e.after))),
+            ends: [a, b],
+            inward: middle.inward,
+            line: middle.line as f32,
+            before,
+            straight_before: f32::from(u8::from(straight(before, a, b))),
+            after,
+            straight_after: f32::from(u8::from(straight(a, b, after))),
         }
     }
 }
@@ -99,29 +128,32 @@ pub(crate) fn outline_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
     .build(&ctx.gpu.device, ctx.frame_layout)
 }
 
-/// Outline edges uploaded for drawing after their surface.
+/// Outline edges uploaded for drawing after their surface, the pieces each frame
+/// draws chosen on the CPU ([`OutlineChains`]).
 pub(crate) struct OutlineLines {
     pipeline: wgpu::RenderPipeline,
+    chains: OutlineChains,
+    /// The chosen pieces' records, rewritten every frame: room for every edge.
     buffer: wgpu::Buffer,
     /// [`QUAD_INDICES`]: four vertices an edge, shaded once each.
     quad: wgpu::Buffer,
-    count: u32,
+    /// The last frame's choice, kept to reuse its memory.
+    chosen: RefCell<(Vec<Chosen>, Vec<EdgeRecord>)>,
 }
 
 impl OutlineLines {
     /// `edges` uploaded, drawn by `pipeline` ([`outline_pipeline`]); `None` when there
     /// are none.
     pub fn new(gpu: &Gpu, edges: &[OutlineEdge], pipeline: &wgpu::RenderPipeline) -> Option<Self> {
-        let records: Vec<EdgeRecord> = edges.iter().map(EdgeRecord::from).collect();
-        (!records.is_empty()).then(|| OutlineLines {
+        (!edges.is_empty()).then(|| OutlineLines {
             pipeline: pipeline.clone(),
-            buffer: gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("outline edges"),
-                    contents: bytemuck::cast_slice(&records),
-                    usage: wgpu::BufferUsages::VERTEX,
-                }),
+            chains: OutlineChains::new(edges),
+            buffer: gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("outline edges"),
+                size: (edges.len() * std::mem::size_of::<EdgeRecord>()) as u64,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             quad: gpu
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -129,8 +161,30 @@ impl OutlineLines {
                     contents: bytemuck::cast_slice(&QUAD_INDICES),
                     usage: wgpu::BufferUsages::INDEX,
                 }),
-            count: records.len() as u32,
+            chosen: RefCell::new((Vec::new(), Vec::new())),
         })
+    }
+
+    /// Chooses what `frame` draws and writes its records; their count.
+    fn choose(&self, frame: &FrameTargets) -> u32 {
+        let mut chosen = self.chosen.borrow_mut();
+        let (pieces, records) = &mut *chosen;
+        self.chains.choose(&frame.projection, frame.style, pieces);
+        records.clear();
+        records.extend((0..pieces.len()).map(|n| {
+            EdgeRecord::of(
+                &self.chains,
+                pieces[n],
+                n.checked_sub(1).map(|m| pieces[m]),
+                pieces.get(n + 1).copied(),
+            )
+        }));
+        if !records.is_empty() {
+            frame
+                .queue
+                .write_buffer(&self.buffer, 0, bytemuck::cast_slice(records));
+        }
+        records.len() as u32
     }
 }
 
@@ -144,12 +198,18 @@ impl Drawable for OutlineLines {
         true
     }
 
+    /// Writes the frame's choice into the buffer before drawing it: a drawable draws
+    /// once a submitted frame.
     fn draw_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
+        let count = self.choose(frame);
+        if count == 0 {
+            return;
+        }
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
         pass.set_vertex_buffer(0, self.buffer.slice(..));
         pass.set_index_buffer(self.quad.slice(..), wgpu::IndexFormat::Uint16);
-        pass.draw_indexed(0..6, 0, 0..self.count);
+        pass.draw_indexed(0..6, 0, 0..count);
     }
 
     fn triangles(&self) -> usize {
