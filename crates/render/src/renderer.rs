@@ -52,6 +52,7 @@ impl View {
         FrameProjection {
             view_proj: cam.projection(aspect, near, far) * cam.view(),
             z_scale: cam.z_scale,
+            eye: cam.eye,
             size: Vec2::new(self.width as f32, self.height as f32),
         }
     }
@@ -404,7 +405,7 @@ impl Renderer {
         self.build_edge_pipelines();
         let pipeline = self.edges.as_ref().map(|e| &e.outline);
         let lines = validated(&self.gpu, || {
-            Ok(pipeline.and_then(|p| wire::OutlineLines::new(&self.gpu, edges, p)))
+            Ok(pipeline.and_then(|p| wire::OutlineLines::new(&self.gpu, edges, None, p)))
         })?;
         Ok(lines.map(|l| Box::new(l) as Box<dyn Drawable>))
     }
@@ -687,7 +688,7 @@ impl Renderer {
             height: view.height,
             style,
             projection: view.projection(),
-            queue: &self.gpu.queue,
+            gpu: &self.gpu,
         };
         for item in items {
             item.encode(&frame, encoder);

@@ -12,7 +12,7 @@
 mod support;
 
 use strata_grid::{CellFace, SurfaceMesh};
-use strata_render::glam::Vec2;
+use strata_render::glam::{Vec2, Vec3};
 use strata_render::{Coverage, Renderer, Style, View, WireMode};
 use support::*;
 
@@ -59,10 +59,24 @@ fn without(mesh: &SurfaceMesh, holes: &[[u32; 2]]) -> SurfaceMesh {
     out
 }
 
-/// The grid seen from `tilt_deg` off the vertical (towards -y), filling most of the
-/// frame.
-fn view(grid: &PlaneGrid, tilt_deg: f32) -> View {
-    grid_view(grid, grid_camera(grid, tilt_deg, 260.0), SIZE)
+/// A surface over the grid, how it is seen, and where its grid point `(a, b)` lies.
+struct Scene {
+    mesh: SurfaceMesh,
+    view: View,
+    point: Box<dyn Fn(f32, f32) -> Vec3>,
+}
+
+impl Scene {
+    /// The flat grid `mesh` seen from `tilt_deg` off the vertical (towards -y),
+    /// filling most of the frame.
+    fn flat(mesh: SurfaceMesh, tilt_deg: f32) -> Scene {
+        let grid = grid();
+        Scene {
+            mesh,
+            view: grid_view(&grid, grid_camera(&grid, tilt_deg, 260.0), SIZE),
+            point: Box::new(move |a, b| grid.point(a, b)),
+        }
+    }
 }
 
 /// Coverage across the line through `at` of unit normal `normal` on screen, scanned
@@ -146,18 +160,11 @@ type Corner = [[f32; 2]; 3];
 /// `lines` at the middle of each cell along them. Around each of `corners`, every
 /// pixel off the surface must be covered no more than a pixel as far from the straight
 /// outline: where two edges meet, their lines are not both drawn.
-fn check(
-    r: &mut Renderer,
-    label: &str,
-    (mesh, tilt_deg): (&SurfaceMesh, f32),
-    lines: &[Line],
-    corners: &[Corner],
-) {
-    let grid = grid();
-    let view = view(&grid, tilt_deg);
-    let proj = Projector::new(&view);
-    let px = |[a, b]: [f32; 2]| proj.to_px(grid.point(a, b));
-    let surface = surface_mask(r, mesh, &view);
+fn check(r: &mut Renderer, label: &str, scene: &Scene, lines: &[Line], corners: &[Corner]) {
+    let (mesh, view) = (&scene.mesh, &scene.view);
+    let proj = Projector::new(view);
+    let px = |[a, b]: [f32; 2]| proj.to_px((scene.point)(a, b));
+    let surface = surface_mask(r, mesh, view);
     let on_surface = |x: i64, y: i64| surface[y as usize * SIZE as usize + x as usize];
     for mode in TEXTURE_MODES {
         let drawable = r.prepare(mesh, mode).unwrap();
@@ -167,7 +174,7 @@ fn check(
                     background: [0.0, 0.0, 0.0, 1.0],
                     ..measuring_style(sigma, form)
                 };
-                let image = r.render(&[drawable.as_ref()], &view, &style).unwrap();
+                let image = r.render(&[drawable.as_ref()], view, &style).unwrap();
                 let frame = Frame::new(&image);
                 let reach = 0.5 * sigma + 3.0;
                 let mut measures = Vec::new();
@@ -294,7 +301,7 @@ fn check(
                     }
                 }
                 assert!(
-                    checked > 0,
+                    corners.is_empty() || checked > 0,
                     "{tag}: no line pixel off the surface at a corner"
                 );
             }
@@ -330,7 +337,7 @@ fn the_outline_of_a_flat_grid_has_the_full_width() {
     check(
         &mut r,
         "flat",
-        (&grid.mesh(), 0.0),
+        &Scene::flat(grid.mesh(), 0.0),
         &lines,
         &square_corners(),
     );
@@ -351,7 +358,7 @@ fn the_outline_of_a_grid_tilted_60_degrees_has_the_full_width() {
     check(
         &mut r,
         "tilted",
-        (&grid.mesh(), 60.0),
+        &Scene::flat(grid.mesh(), 60.0),
         &lines,
         &square_corners(),
     );
@@ -360,8 +367,7 @@ fn the_outline_of_a_grid_tilted_60_degrees_has_the_full_width() {
 #[test]
 fn the_rim_of_a_hole_has_the_full_width() {
     let mut r = renderer();
-    let grid = grid();
-    let mesh = without(&grid.mesh(), &HOLE);
+    let mesh = without(&grid().mesh(), &HOLE);
     // The hole's four sides and the interior lines through its middle's row and
     // column, away from it.
     let lines = [
@@ -378,5 +384,40 @@ fn the_rim_of_a_hole_has_the_full_width() {
         [[5.0, 7.0], [6.0, 7.0], [5.0, 6.0]],
         [[7.0, 7.0], [6.0, 7.0], [7.0, 6.0]],
     ];
-    check(&mut r, "hole", (&mesh, 0.0), &lines, &corners);
+    check(&mut r, "hole", &Scene::flat(mesh, 0.0), &lines, &corners);
+}
+
+#[test]
+fn the_silhouette_of_a_folded_layer_has_the_full_width() {
+    let mut r = renderer();
+    let grid = grid();
+    let n = CELLS as f32;
+    let ridge = 0.5 * n;
+    // Folded along the grid line j = 6 into two flanks rising 40 degrees to it, seen
+    // from 20 degrees above the horizon on the side of the first: the second flank
+    // turns away, and the fold is the layer's silhouette.
+    let slope = 40f32.to_radians().tan();
+    let point = move |a: f32, b: f32| {
+        grid.point(a, b) + Vec3::Z * slope * CELL * (ridge - (b - ridge).abs())
+    };
+    let mesh = SurfaceMesh::structured(CELLS, CELLS, |i, j| point(i as f32, j as f32).to_array());
+    let (lo, hi) = grid.bounds();
+    let view = View {
+        camera: grid_camera(&grid, 70.0, 260.0),
+        width: SIZE,
+        height: SIZE,
+        bounds: (lo, hi + Vec3::Z * slope * CELL * ridge),
+    };
+    // The fold, and two lines on the flank seen.
+    let lines = [
+        ([0.0, ridge], [n, ridge], true),
+        ([0.0, 2.0], [n, 2.0], false),
+        ([0.0, 4.0], [n, 4.0], false),
+    ];
+    let scene = Scene {
+        mesh,
+        view,
+        point: Box::new(point),
+    };
+    check(&mut r, "fold", &scene, &lines, &[]);
 }

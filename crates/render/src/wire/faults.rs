@@ -12,6 +12,7 @@ use wgpu::util::DeviceExt;
 
 use super::lines::{PassSpec, shader};
 use super::outline::{OutlineLines, outline_pipeline};
+use super::silhouette::Silhouettes;
 use super::{Drawable, FrameTargets, PipelineContext};
 use crate::Gpu;
 
@@ -113,8 +114,8 @@ impl EdgePipelines {
     }
 }
 
-/// A drawable and what of its mesh's edges is drawn after it: the outline's outer
-/// half, then the fault traces. What a texture technique's drawable is wrapped in
+/// A drawable and what of its mesh's edges is drawn after it: the outer half of the
+/// lines on its outline and silhouette, then the fault traces. What a texture technique's drawable is wrapped in
 /// (`Renderer::prepare`).
 pub(crate) struct Edged {
     inner: Box<dyn Drawable>,
@@ -139,7 +140,7 @@ impl Edged {
                 .into_iter()
                 .filter(|e| !(e.along_i && cut_rows.contains(&e.line)))
                 .collect();
-            OutlineLines::new(gpu, &edges, &pipelines.outline)
+            OutlineLines::new(gpu, &edges, Silhouettes::new(mesh), &pipelines.outline)
         });
         let traces = FaultTraces::new(gpu, &fault_traces(mesh), &pipelines.faults);
         Edged {

@@ -15,6 +15,7 @@ mod outline;
 mod outline_chains;
 pub mod reference;
 mod registry;
+mod silhouette;
 mod texture;
 mod wire_texture;
 
@@ -70,8 +71,9 @@ pub struct FrameTargets<'a> {
     /// The frame's projection as the shaders apply it, for drawables that choose on
     /// the CPU what to draw (outline edges).
     pub projection: FrameProjection,
-    /// The queue, for what such drawables write before the frame is submitted.
-    pub queue: &'a wgpu::Queue,
+    /// The device and queue, for what such drawables write before the frame is
+    /// submitted.
+    pub gpu: &'a Gpu,
 }
 
 /// The projection of a frame: display-frame points to clip space and window pixels,
@@ -82,6 +84,8 @@ pub struct FrameProjection {
     pub view_proj: glam::Mat4,
     /// The vertical exaggeration.
     pub z_scale: f32,
+    /// The eye, in the exaggerated display frame.
+    pub eye: glam::Vec3,
     /// The frame's size in pixels.
     pub size: glam::Vec2,
 }

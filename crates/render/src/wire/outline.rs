@@ -1,5 +1,7 @@
 //! The outer half of the lines on a surface's outline (`strata_grid::outline`): the
-//! model's outline, holes and inactive cells.
+//! model's outline, holes and inactive cells; and on its silhouette, where a folded
+//! surface turns away from the eye (`silhouette.rs`, drawn as outline edges of the
+//! frame).
 //!
 //! # How it works
 //! The texture techniques draw a cell line where the surface is: on an outline edge,
@@ -26,6 +28,7 @@ use strata_grid::outline::OutlineEdge;
 use wgpu::util::DeviceExt;
 
 use super::outline_chains::{Chosen, OutlineChains};
+use super::silhouette::Silhouettes;
 
 use super::lines::{PassSpec, shader};
 use super::{Drawable, FrameTargets, PipelineContext};
@@ -87,14 +90,25 @@ impl EdgeRecord {
             }
             _ => last.after,
         };
-        EdgeRecord {
+        EdgeRecord::new(&OutlineEdge {
             ends: [a, b],
-            inward: middle.inward,
-            line: middle.line as f32,
             before,
-            straight_before: f32::from(u8::from(straight(before, a, b))),
             after,
-            straight_after: f32::from(u8::from(straight(a, b, after))),
+            ..*middle
+        })
+    }
+
+    /// The record of edge `e`, with the neighbours it names.
+    fn new(e: &OutlineEdge) -> Self {
+        let [a, b] = e.ends;
+        EdgeRecord {
+            ends: e.ends,
+            inward: e.inward,
+            line: e.line as f32,
+            before: e.before,
+            straight_before: f32::from(u8::from(straight(e.before, a, b))),
+            after: e.after,
+            straight_after: f32::from(u8::from(straight(a, b, e.after))),
         }
     }
 }
@@ -128,32 +142,53 @@ pub(crate) fn outline_pipeline(ctx: &PipelineContext) -> wgpu::RenderPipeline {
     .build(&ctx.gpu.device, ctx.frame_layout)
 }
 
-/// Outline edges uploaded for drawing after their surface, the pieces each frame
-/// draws chosen on the CPU ([`OutlineChains`]).
+/// Outline edges and silhouette candidates uploaded for drawing after their surface,
+/// what each frame draws chosen on the CPU ([`OutlineChains`], [`Silhouettes`]).
 pub(crate) struct OutlineLines {
     pipeline: wgpu::RenderPipeline,
     chains: OutlineChains,
-    /// The chosen pieces' records, rewritten every frame: room for every edge.
-    buffer: wgpu::Buffer,
+    silhouettes: Option<Silhouettes>,
+    /// The chosen pieces' and silhouette edges' records, rewritten every frame; grown
+    /// when a frame needs more room.
+    buffer: RefCell<wgpu::Buffer>,
     /// [`QUAD_INDICES`]: four vertices an edge, shaded once each.
     quad: wgpu::Buffer,
     /// The last frame's choice, kept to reuse its memory.
-    chosen: RefCell<(Vec<Chosen>, Vec<EdgeRecord>)>,
+    chosen: RefCell<Choice>,
+}
+
+/// What a frame draws: pieces of the outline, silhouette edges, their records.
+#[derive(Default)]
+struct Choice {
+    pieces: Vec<Chosen>,
+    silhouette: Vec<OutlineEdge>,
+    records: Vec<EdgeRecord>,
+}
+
+/// A vertex buffer of `records` edge records.
+fn edge_buffer(gpu: &Gpu, records: usize) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("outline edges"),
+        size: (records.max(1) * std::mem::size_of::<EdgeRecord>()) as u64,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 impl OutlineLines {
-    /// `edges` uploaded, drawn by `pipeline` ([`outline_pipeline`]); `None` when there
-    /// are none.
-    pub fn new(gpu: &Gpu, edges: &[OutlineEdge], pipeline: &wgpu::RenderPipeline) -> Option<Self> {
-        (!edges.is_empty()).then(|| OutlineLines {
+    /// `edges` and the silhouette edges of `silhouettes` uploaded, drawn by `pipeline`
+    /// ([`outline_pipeline`]); `None` when there are neither.
+    pub fn new(
+        gpu: &Gpu,
+        edges: &[OutlineEdge],
+        silhouettes: Option<Silhouettes>,
+        pipeline: &wgpu::RenderPipeline,
+    ) -> Option<Self> {
+        (!edges.is_empty() || silhouettes.is_some()).then(|| OutlineLines {
             pipeline: pipeline.clone(),
             chains: OutlineChains::new(edges),
-            buffer: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("outline edges"),
-                size: (edges.len() * std::mem::size_of::<EdgeRecord>()) as u64,
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            silhouettes,
+            buffer: RefCell::new(edge_buffer(gpu, edges.len())),
             quad: gpu
                 .device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -161,14 +196,18 @@ impl OutlineLines {
                     contents: bytemuck::cast_slice(&QUAD_INDICES),
                     usage: wgpu::BufferUsages::INDEX,
                 }),
-            chosen: RefCell::new((Vec::new(), Vec::new())),
+            chosen: RefCell::new(Choice::default()),
         })
     }
 
     /// Chooses what `frame` draws and writes its records; their count.
     fn choose(&self, frame: &FrameTargets) -> u32 {
         let mut chosen = self.chosen.borrow_mut();
-        let (pieces, records) = &mut *chosen;
+        let Choice {
+            pieces,
+            silhouette,
+            records,
+        } = &mut *chosen;
         self.chains.choose(&frame.projection, frame.style, pieces);
         records.clear();
         records.extend((0..pieces.len()).map(|n| {
@@ -179,11 +218,19 @@ impl OutlineLines {
                 pieces.get(n + 1).copied(),
             )
         }));
-        if !records.is_empty() {
-            frame
-                .queue
-                .write_buffer(&self.buffer, 0, bytemuck::cast_slice(records));
+        if let Some(silhouettes) = &self.silhouettes {
+            silhouettes.choose(&frame.projection, silhouette);
+            records.extend(silhouette.iter().map(EdgeRecord::new));
         }
+        if records.is_empty() {
+            return 0;
+        }
+        let mut buffer = self.buffer.borrow_mut();
+        let bytes: &[u8] = bytemuck::cast_slice(records);
+        if buffer.size() < bytes.len() as u64 {
+            *buffer = edge_buffer(frame.gpu, records.len().next_power_of_two());
+        }
+        frame.gpu.queue.write_buffer(&buffer, 0, bytes);
         records.len() as u32
     }
 }
@@ -207,7 +254,7 @@ impl Drawable for OutlineLines {
         }
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, frame.frame_bind_group, &[]);
-        pass.set_vertex_buffer(0, self.buffer.slice(..));
+        pass.set_vertex_buffer(0, self.buffer.borrow().slice(..));
         pass.set_index_buffer(self.quad.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed(0..6, 0, 0..count);
     }
@@ -217,6 +264,6 @@ impl Drawable for OutlineLines {
     }
 
     fn bytes(&self) -> u64 {
-        self.buffer.size() + self.quad.size()
+        self.buffer.borrow().size() + self.quad.size()
     }
 }
