@@ -36,6 +36,33 @@ pub struct OutlineEdge {
     pub after: [f32; 3],
 }
 
+/// A side two faces of one surface share with no fault between them: where a folded
+/// surface may turn away from the eye (a silhouette), the edge between a triangle that
+/// faces the eye and one that does not.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InteriorEdge {
+    /// The (i, j) column of the face on its west or south side.
+    pub cell: [u32; 2],
+    /// Its ends (vertex indices, of that face).
+    pub ends: [u32; 2],
+    /// The far corner of the triangle on each side, west or south first.
+    pub far: [u32; 2],
+    /// The grid line it lies on, as [`OutlineEdge::line`].
+    pub line: u32,
+    /// Whether it runs along i.
+    pub along_i: bool,
+}
+
+/// The edges of a mesh's layer surfaces that renderers draw lines on beyond what the
+/// surface draws: [`surface_edges`].
+#[derive(Clone, Debug, Default)]
+pub struct SurfaceEdges {
+    /// The outline: [`outline_edges`].
+    pub outline: Vec<OutlineEdge>,
+    /// The sides shared by two faces of one surface, each once.
+    pub interior: Vec<InteriorEdge>,
+}
+
 /// A side of a layer face, as [`outline_edges`] walks them.
 struct Side {
     /// The neighbouring cell's column offset.
@@ -92,7 +119,17 @@ const SIDES: [Side; 4] = [
 /// (several layers) are told apart as [`crate::faults::fault_traces`] tells them.
 /// Meshes without cell faces (decimated surfaces) have none.
 pub fn outline_edges(mesh: &SurfaceMesh) -> Vec<OutlineEdge> {
-    let mut faces: Vec<([u32; 3], [u32; 4])> = Vec::with_capacity(mesh.cell_faces.len());
+    surface_edges(mesh).outline
+}
+
+/// One layer face as the walk holds it: its cell, corners (`layer_corners` order) and
+/// triangles.
+type Face = ([u32; 3], [u32; 4], [u32; 2]);
+
+/// The outline edges of `mesh`'s layer surfaces ([`outline_edges`]) and the sides
+/// their faces share ([`InteriorEdge`]), found in one walk over the faces.
+pub fn surface_edges(mesh: &SurfaceMesh) -> SurfaceEdges {
+    let mut faces: Vec<Face> = Vec::with_capacity(mesh.cell_faces.len());
     let mut walls: HashSet<[[u32; 3]; 2]> = HashSet::new();
     let key = |p: [f32; 3], q: [f32; 3]| {
         let (p, q) = (p.map(f32::to_bits), q.map(f32::to_bits));
@@ -100,7 +137,7 @@ pub fn outline_edges(mesh: &SurfaceMesh) -> Vec<OutlineEdge> {
     };
     for f in &mesh.cell_faces {
         match layer_corners(mesh, f.cell, f.triangles) {
-            Some(corners) => faces.push((f.cell, corners)),
+            Some(corners) => faces.push((f.cell, corners, f.triangles)),
             None => {
                 for t in f.triangles {
                     let Some(tri) = mesh.triangles.get(t as usize) else {
@@ -117,7 +154,7 @@ pub fn outline_edges(mesh: &SurfaceMesh) -> Vec<OutlineEdge> {
     // The faces of a surface are found in a dense table over the (i, j) box of all
     // faces, not a hash map: a part of a large model holds millions.
     let range = |axis: usize| {
-        let values = faces.iter().map(|(c, _)| c[axis]);
+        let values = faces.iter().map(|(c, _, _)| c[axis]);
         let lo = values.clone().min().unwrap_or(0);
         (lo, values.max().map_or(0, |hi| hi + 1 - lo) as usize)
     };
@@ -126,7 +163,7 @@ pub fn outline_edges(mesh: &SurfaceMesh) -> Vec<OutlineEdge> {
         ni: range(0).1,
         slot: vec![u32::MAX; range(0).1 * range(1).1],
     };
-    let mut out = Vec::new();
+    let mut out = SurfaceEdges::default();
     let mut start = 0;
     for n in 0..faces.len() {
         let at = table.at(faces[n].0).unwrap_or(0);
@@ -139,7 +176,8 @@ pub fn outline_edges(mesh: &SurfaceMesh) -> Vec<OutlineEdge> {
         table.slot[at] = n as u32;
     }
     surface_outline(mesh, &faces, start..faces.len(), &table, &mut out);
-    out.retain(|e| !walls.contains(&key(e.ends[0], e.ends[1])));
+    out.outline
+        .retain(|e| !walls.contains(&key(e.ends[0], e.ends[1])));
     out
 }
 
@@ -159,8 +197,8 @@ impl Columns {
     }
 
     /// Empties the columns of `faces`.
-    fn clear(&mut self, faces: &[([u32; 3], [u32; 4])]) {
-        for (cell, _) in faces {
+    fn clear(&mut self, faces: &[Face]) {
+        for (cell, _, _) in faces {
             if let Some(at) = self.at(*cell) {
                 self.slot[at] = u32::MAX;
             }
@@ -168,20 +206,31 @@ impl Columns {
     }
 }
 
-/// Adds the outline edges of one surface, `faces[surface]` (held in `table`), to
-/// `out`, linked to their neighbours.
+/// The corner of whichever of `triangles` holds both `p` and `q` that is neither.
+fn far_corner(mesh: &SurfaceMesh, triangles: [u32; 2], p: u32, q: u32) -> Option<u32> {
+    triangles
+        .iter()
+        .filter_map(|&t| mesh.triangles.get(t as usize))
+        .find(|tri| tri.contains(&p) && tri.contains(&q))
+        .and_then(|tri| tri.iter().copied().find(|&v| v != p && v != q))
+}
+
+/// Adds the edges of one surface, `faces[surface]` (held in `table`), to `out`: its
+/// outline edges, linked to their neighbours, and the sides its faces share.
 fn surface_outline(
     mesh: &SurfaceMesh,
-    faces: &[([u32; 3], [u32; 4])],
+    faces: &[Face],
     surface: std::ops::Range<usize>,
     table: &Columns,
-    out: &mut Vec<OutlineEdge>,
+    out: &mut SurfaceEdges,
 ) {
     let at = |v: u32| mesh.positions[v as usize];
+    let interior = &mut out.interior;
+    let out = &mut out.outline;
     let first = out.len();
     // Per edge: its cell and its first and second node in the (i, j) index plane.
     let mut nodes: Vec<([u32; 2], [[u32; 2]; 2])> = Vec::new();
-    for &(cell, corners) in &faces[surface] {
+    for &(cell, corners, triangles) in &faces[surface] {
         for Side {
             step,
             corners: side,
@@ -191,14 +240,37 @@ fn surface_outline(
         } in SIDES
         {
             let neighbour = [i64::from(cell[0]) + step[0], i64::from(cell[1]) + step[1]];
-            let has_neighbour = u32::try_from(neighbour[0])
+            let neighbour_face = u32::try_from(neighbour[0])
                 .ok()
                 .zip(u32::try_from(neighbour[1]).ok())
                 .and_then(|(i, j)| table.at([i, j, cell[2]]))
                 .map(|slot| table.slot[slot])
                 .and_then(|f| faces.get(f as usize))
-                .is_some_and(|(c, _)| c[2] == cell[2]);
-            if has_neighbour {
+                .filter(|(c, _, _)| c[2] == cell[2]);
+            if let Some(&(_, their_corners, their_triangles)) = neighbour_face {
+                // Each shared side once, from the face west or south of it, where
+                // both faces have its ends (no fault between them).
+                let forward = step[0] + step[1] > 0;
+                let ends = side.map(|c| corners[c]);
+                // The neighbour's side: its cell's opposite corners (in either order).
+                let theirs = opposite.map(|c| their_corners[c]);
+                let [a, b] = ends;
+                let (here, there) = (ends.map(at), theirs.map(at));
+                if forward && (here == there || here == [there[1], there[0]]) {
+                    let far = [
+                        far_corner(mesh, triangles, a, b),
+                        far_corner(mesh, their_triangles, theirs[0], theirs[1]),
+                    ];
+                    if let [Some(mine), Some(other)] = far {
+                        interior.push(InteriorEdge {
+                            cell: [cell[0], cell[1]],
+                            ends,
+                            far: [mine, other],
+                            line: if on_i_line { cell[0] } else { cell[1] } + offset,
+                            along_i: !on_i_line,
+                        });
+                    }
+                }
                 continue;
             }
             let [p, q] = side.map(|c| at(corners[c]));
@@ -255,6 +327,52 @@ mod tests {
     fn on_left(edge: &OutlineEdge, p: [f32; 3]) -> bool {
         let [a, b] = edge.ends;
         (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]) > 0.0
+    }
+
+    #[test]
+    fn faces_share_every_inner_side_once_but_across_a_fault() {
+        let mesh = flat(3, 2, &[]);
+        let edges = surface_edges(&mesh);
+        // (3 - 1) x 2 sides along j, 3 x (2 - 1) along i.
+        assert_eq!(edges.interior.len(), 7);
+        for e in &edges.interior {
+            let [a, b] = e.ends.map(|v| mesh.positions[v as usize]);
+            // On its grid line, the far corners off it on either side.
+            let on_line = |p: [f32; 3]| {
+                if e.along_i {
+                    p[1] == 10.0 * e.line as f32
+                } else {
+                    p[0] == 10.0 * e.line as f32
+                }
+            };
+            assert!(on_line(a) && on_line(b), "{e:?}");
+            let [f, g] = e.far.map(|v| mesh.positions[v as usize]);
+            assert!(!on_line(f) && !on_line(g), "{e:?}");
+            let axis = usize::from(e.along_i);
+            assert!((f[axis] - a[axis]) * (g[axis] - a[axis]) < 0.0, "{e:?}");
+        }
+        // Cells east of i = 1 on vertices of their own, 5 m lower: a fault, whose
+        // sides are not shared.
+        let mut faulted = mesh.clone();
+        let mut moved = std::collections::HashMap::new();
+        for f in mesh.cell_faces.iter().filter(|f| f.cell[0] >= 2) {
+            for t in f.triangles {
+                for v in &mut faulted.triangles[t as usize] {
+                    *v = *moved.entry(*v).or_insert_with(|| {
+                        let [x, y, z] = mesh.positions[*v as usize];
+                        faulted.positions.push([x, y, z - 5.0]);
+                        faulted.texcoords.push(mesh.texcoords[*v as usize]);
+                        faulted.positions.len() as u32 - 1
+                    });
+                }
+            }
+        }
+        let shared = surface_edges(&faulted).interior;
+        assert_eq!(shared.len(), 5, "{shared:?}");
+        assert!(
+            shared.iter().all(|e| e.along_i || e.line != 2),
+            "{shared:?}"
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@
 
 use strata_grid::SurfaceMesh;
 use strata_grid::faults::{Segment, fault_traces};
-use strata_grid::outline::{OutlineEdge, outline_edges};
+use strata_grid::outline::{OutlineEdge, surface_edges};
 use wgpu::util::DeviceExt;
 
 use super::lines::{PassSpec, shader};
@@ -124,10 +124,10 @@ pub(crate) struct Edged {
 }
 
 impl Edged {
-    /// `inner` with the fault traces of `mesh` and, where it draws the wireframe
-    /// (`outline` given), its outline edges but those on the lines of constant j at
-    /// the node rows `outline` lists (where the mesh was cut from the rest of its
-    /// surface).
+    /// `inner` with the fault traces of `mesh`, its silhouettes and, where it draws
+    /// the outline (`outline` given: no side walls carry it), its outline edges but
+    /// those on the lines of constant j at the node rows `outline` lists (where the
+    /// mesh was cut from the rest of its surface).
     pub fn new(
         gpu: &Gpu,
         inner: Box<dyn Drawable>,
@@ -135,13 +135,17 @@ impl Edged {
         pipelines: &EdgePipelines,
         outline: Option<&[u32]>,
     ) -> Self {
-        let outline = outline.and_then(|cut_rows| {
-            let edges: Vec<OutlineEdge> = outline_edges(mesh)
+        let found = surface_edges(mesh);
+        let edges: Vec<OutlineEdge> = match outline {
+            Some(cut_rows) => found
+                .outline
                 .into_iter()
                 .filter(|e| !(e.along_i && cut_rows.contains(&e.line)))
-                .collect();
-            OutlineLines::new(gpu, &edges, Silhouettes::new(mesh), &pipelines.outline)
-        });
+                .collect(),
+            None => Vec::new(),
+        };
+        let silhouettes = Silhouettes::new(mesh, &found.interior);
+        let outline = OutlineLines::new(gpu, &edges, silhouettes, &pipelines.outline);
         let traces = FaultTraces::new(gpu, &fault_traces(mesh), &pipelines.faults);
         Edged {
             inner,

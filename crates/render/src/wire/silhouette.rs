@@ -8,8 +8,9 @@
 //! something further away, as beyond the outline. An edge is on the silhouette when
 //! its two triangles' far corners lie on the same side of the plane through the edge
 //! and the eye (the test of Rossignac and van Emmerik's contour edges, `is_contour` in
-//! lines.wgsl). The edges between two faces of one surface are kept in clusters of
-//! [`CLUSTER`] with a bounding sphere and a cone holding their triangles' normals; a
+//! lines.wgsl). The edges between two faces of one surface (found with the outline,
+//! `strata_grid::outline::surface_edges`) are kept in clusters of [`CLUSTER`], from
+//! tiles of columns, with a bounding sphere and a cone holding their triangles' normals; a
 //! frame tests only the clusters whose triangles may face both ways from the eye, so
 //! a surface that nowhere turns away (a layer seen from above) costs a test per
 //! cluster.
@@ -23,16 +24,16 @@
 //! what the texture techniques exist to avoid.
 
 use glam::Vec3;
+use rayon::prelude::*;
 use strata_grid::SurfaceMesh;
-use strata_grid::outline::OutlineEdge;
+use strata_grid::outline::{InteriorEdge, OutlineEdge};
 
 use super::FrameProjection;
-use super::lines::{EdgeTable, NONE};
 
-/// Edges a cluster holds: few enough that its sphere and cone stay tight (at the
-/// bench's view of its 1 M reservoir 3 % of the clusters are tested; with 256 edges in
-/// the edge table's order, nearly all), many enough that testing the clusters costs
-/// little beside their edges (docs/performance.md).
+/// Edges a cluster holds, taken from tiles of 8 x 8 columns: few enough that its
+/// sphere and cone stay tight (256 edges in rows of cells left nearly every cluster
+/// tested at the bench's view of its 1 M reservoir), many enough that testing the
+/// clusters costs little beside their edges (docs/performance.md).
 const CLUSTER: usize = 64;
 
 /// A cell edge with a triangle of the same surface on either side.
@@ -65,72 +66,53 @@ pub struct Silhouettes {
     clusters: Vec<Cluster>,
 }
 
-/// The grid line through vertices `a` and `b` of `mesh`: the global coordinate both
-/// share, odd on grid lines (`SurfaceMesh::texcoords`); `None` for an edge on no grid
-/// line (a diagonal, a decimated surface's edge).
-fn grid_line(mesh: &SurfaceMesh, a: u32, b: u32) -> Option<(u32, bool)> {
-    let (ta, tb) = (
-        mesh.texcoords.get(a as usize)?,
-        mesh.texcoords.get(b as usize)?,
-    );
-    let line = |t: f32| {
-        let k = (t - 1.0) * 0.5;
-        (k >= 0.0 && k == k.round()).then_some(k as u32)
-    };
-    if ta[1] == tb[1] && ta[0] != tb[0] {
-        line(ta[1]).map(|l| (l, true))
-    } else if ta[0] == tb[0] && ta[1] != tb[1] {
-        line(ta[0]).map(|l| (l, false))
-    } else {
-        None
-    }
-}
-
 impl Silhouettes {
-    /// The cell edges of `mesh` that can be on a silhouette: those on a grid line
-    /// with a triangle on either side; `None` when there are none or the mesh has no
-    /// cell faces.
-    pub fn new(mesh: &SurfaceMesh) -> Option<Silhouettes> {
-        // Meshes without cell faces (decimated) have few edges on grid lines.
-        if mesh.cell_faces.is_empty() || mesh.texcoords.len() != mesh.positions.len() {
+    /// The sides the faces of `mesh` share (`interior`, `strata_grid::outline::
+    /// surface_edges`), each of which can be on a silhouette; `None` when there are
+    /// none (meshes without cell faces: decimated surfaces).
+    pub fn new(mesh: &SurfaceMesh, interior: &[InteriorEdge]) -> Option<Silhouettes> {
+        if interior.is_empty() {
             return None;
         }
-        let table = EdgeTable::new(mesh);
-        let candidates: Vec<Candidate> = table
-            .edges
+        // Clusters of nearby edges, so that their spheres are small and their normals
+        // alike: the edges in tiles of 8 x 8 columns (a counting sort, keeping each
+        // surface's edges together within a tile), cut in runs of CLUSTER.
+        let tile = |e: &InteriorEdge| [e.cell[0] >> 3, e.cell[1] >> 3];
+        let tiles_i = interior.iter().map(|e| tile(e)[0] + 1).max().unwrap_or(1) as usize;
+        let tiles_j = interior.iter().map(|e| tile(e)[1] + 1).max().unwrap_or(1) as usize;
+        let key = |e: &InteriorEdge| {
+            let [ti, tj] = tile(e);
+            tj as usize * tiles_i + ti as usize
+        };
+        let mut start = vec![0usize; tiles_i * tiles_j + 1];
+        for e in interior {
+            start[key(e) + 1] += 1;
+        }
+        for t in 1..start.len() {
+            start[t] += start[t - 1];
+        }
+        let mut order = vec![0u32; interior.len()];
+        for (n, e) in interior.iter().enumerate() {
+            let at = &mut start[key(e)];
+            order[*at] = n as u32;
+            *at += 1;
+        }
+        let candidates: Vec<Candidate> = order
             .iter()
-            .filter(|e| e[3] != NONE)
-            .filter_map(|&vertices| {
-                grid_line(mesh, vertices[0], vertices[1]).map(|(line, along_i)| Candidate {
-                    vertices,
-                    line,
-                    along_i,
-                })
+            .map(|&n| {
+                let e = &interior[n as usize];
+                Candidate {
+                    vertices: [e.ends[0], e.ends[1], e.far[0], e.far[1]],
+                    line: e.line,
+                    along_i: e.along_i,
+                }
             })
             .collect();
-        if candidates.is_empty() {
-            return None;
-        }
-        let positions: Vec<Vec3> = mesh.positions.iter().copied().map(Vec3::from).collect();
-        // Clusters of nearby edges: their spheres are small, their normals alike.
-        let mut candidates = candidates;
-        let middle = |e: &Candidate| {
-            0.5 * (positions[e.vertices[0] as usize] + positions[e.vertices[1] as usize])
-        };
-        let (lo, hi) = candidates
-            .iter()
-            .map(middle)
-            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p), hi.max(p))
-            });
-        let scale = Vec3::splat(1023.0) / (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
-        candidates.sort_by_cached_key(|e| morton(((middle(e) - lo) * scale).as_uvec3()));
-        let clusters = (0..candidates.len())
-            .step_by(CLUSTER)
-            .map(|start| {
-                let end = (start + CLUSTER).min(candidates.len());
-                cluster(&positions, &candidates[start..end], start as u32)
-            })
+        let positions: Vec<Vec3> = mesh.positions.iter().map(|&p| Vec3::from(p)).collect();
+        let clusters = candidates
+            .par_chunks(CLUSTER)
+            .enumerate()
+            .map(|(n, edges)| cluster(&positions, edges, (n * CLUSTER) as u32))
             .collect();
         Some(Silhouettes {
             positions,
@@ -204,62 +186,43 @@ fn join(edges: &mut [OutlineEdge]) {
     }
 }
 
-/// The Morton code of a point of 10-bit coordinates: nearby points have nearby codes.
-fn morton(p: glam::UVec3) -> u32 {
-    let spread = |v: u32| {
-        let mut x = v.min(1023);
-        x = (x | (x << 16)) & 0x0300_00ff;
-        x = (x | (x << 8)) & 0x0300_f00f;
-        x = (x | (x << 4)) & 0x030c_30c3;
-        (x | (x << 2)) & 0x0924_9249
-    };
-    spread(p.x) | (spread(p.y) << 1) | (spread(p.z) << 2)
-}
-
 /// The cluster of `edges`, the first at `start` among the candidates.
 fn cluster(positions: &[Vec3], edges: &[Candidate], start: u32) -> Cluster {
-    let points = || {
-        edges
-            .iter()
-            .flat_map(|e| e.vertices)
-            .map(|v| positions[v as usize])
-    };
-    let (lo, hi) = points().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), p| {
-        (lo.min(p), hi.max(p))
-    });
-    let centre = 0.5 * (lo + hi);
-    let radius = points().map(|p| p.distance(centre)).fold(0.0, f32::max);
-    // The triangles' normals, each edge's second one turned to face with its first
-    // (their windings across the edge run opposite ways).
-    let normals: Vec<Vec3> = edges
-        .iter()
-        .flat_map(|e| {
-            let [a, b, o0, o1] = e.vertices.map(|v| positions[v as usize]);
-            [(b - a).cross(o0 - a), (a - b).cross(o1 - b)]
-        })
-        .filter_map(Vec3::try_normalize)
-        .collect();
-    let sum: Vec3 = normals.iter().sum();
+    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let mut normals = [Vec3::ZERO; 2 * CLUSTER];
+    let mut sum = Vec3::ZERO;
+    for (e, pair) in edges.iter().zip(normals.chunks_exact_mut(2)) {
+        let [a, b, o0, o1] = e.vertices.map(|v| positions[v as usize]);
+        for p in [a, b, o0, o1] {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        // The triangles' normals, the second turned to face with the first (their
+        // windings across the edge run opposite ways); degenerate ones left at zero.
+        pair[0] = (b - a).cross(o0 - a).normalize_or_zero();
+        pair[1] = (a - b).cross(o1 - b).normalize_or_zero();
+        sum += pair[0] + pair[1];
+    }
     // The widest normal's cosine; a cone past 90 degrees (cosine 0 or less) holds
     // triangles facing every way.
     let (axis, cos_spread) = match sum.try_normalize() {
         Some(axis) => (
             axis,
-            normals
+            normals[..2 * edges.len()]
                 .iter()
+                .filter(|n| **n != Vec3::ZERO)
                 .map(|n| n.dot(axis).clamp(-1.0, 1.0))
                 .fold(1.0, f32::min),
         ),
         None => (Vec3::Z, -1.0),
     };
-    let spread = (cos_spread, (1.0 - cos_spread * cos_spread).max(0.0).sqrt());
     Cluster {
         start,
         end: start + edges.len() as u32,
-        centre,
-        radius,
+        centre: 0.5 * (lo + hi),
+        radius: 0.5 * lo.distance(hi),
         axis,
-        spread,
+        spread: (cos_spread, (1.0 - cos_spread * cos_spread).max(0.0).sqrt()),
     }
 }
 
@@ -319,9 +282,13 @@ mod tests {
         .projection()
     }
 
+    fn silhouettes(mesh: &SurfaceMesh) -> Option<Silhouettes> {
+        Silhouettes::new(mesh, &strata_grid::outline::surface_edges(mesh).interior)
+    }
+
     fn silhouette(mesh: &SurfaceMesh, frame: &FrameProjection) -> Vec<OutlineEdge> {
         let mut out = Vec::new();
-        if let Some(s) = Silhouettes::new(mesh) {
+        if let Some(s) = silhouettes(mesh) {
             s.choose(frame, &mut out);
         }
         out
@@ -364,7 +331,7 @@ mod tests {
         // Hills seen from all round at low angles: the silhouette found through the
         // clusters is the one found by testing every edge.
         let hills = surface(48, |x, y| 12.0 * (x / 40.0).sin() * (y / 50.0).cos());
-        let s = Silhouettes::new(&hills).unwrap();
+        let s = silhouettes(&hills).unwrap();
         let mut found = Vec::new();
         let (mut total, mut left_out) = (0, 0);
         for (azimuth, elevation) in [(0.0, 5.0), (70.0, 12.0), (145.0, 30.0), (260.0, 45.0)] {
