@@ -3,7 +3,10 @@
 //! it, the outline's lines measure the thickness set (1, 2, 3 and 5 px) as the
 //! interior lines do, in every texture technique and both coverage forms, and around
 //! the outline's corners no pixel off the surface is covered more than a pixel as far
-//! from the straight outline (the lines of two edges are never both drawn there).
+//! from the straight outline (the lines of two edges are never both drawn there). A
+//! layer folded along a grid line and seen from a low angle has its fold's line, its
+//! silhouette, as wide; and where the cap thins the lines of cells seen edge on, the
+//! outline leaves no band beyond the surface.
 //! Frames use the measuring convention of support/mod.rs over a black background, so
 //! that the red channel is the line coverage outside the surface too; run with
 //! `--nocapture` for the numbers. CI runs this file with `WGPU_BACKEND=gl` (llvmpipe)
@@ -420,4 +423,50 @@ fn the_silhouette_of_a_folded_layer_has_the_full_width() {
         point: Box::new(point),
     };
     check(&mut r, "fold", &scene, &lines, &[]);
+}
+
+#[test]
+fn lines_thinned_by_the_cap_leave_no_band_beyond_the_outline() {
+    // Seen from 88 degrees off the vertical, the grid's far cells are under a pixel
+    // deep: the cap thins every line to a fraction of its cell and their mean covers
+    // the surface evenly. Beyond the far outline only the edge's own line, as thin, is
+    // drawn: nothing two pixels or more above the surface.
+    let mut r = renderer();
+    let scene = Scene::flat(grid().mesh(), 88.0);
+    let surface = surface_mask(&mut r, &scene.mesh, &scene.view);
+    let size = SIZE as usize;
+    // The topmost surface pixel of each column the surface reaches, away from the
+    // corners.
+    let tops: Vec<(usize, usize)> = (0..size)
+        .filter_map(|x| (0..size).find(|&y| surface[y * size + x]).map(|y| (x, y)))
+        .collect();
+    let middle = &tops[tops.len() / 4..3 * tops.len() / 4];
+    assert!(middle.len() > 100 && middle.iter().all(|&(_, y)| y > 4));
+    for mode in TEXTURE_MODES {
+        let drawable = r.prepare(&scene.mesh, mode).unwrap();
+        for form in FORMS {
+            let style = Style {
+                background: [0.0, 0.0, 0.0, 1.0],
+                ..measuring_style(2.0, form)
+            };
+            let image = r.render(&[drawable.as_ref()], &scene.view, &style).unwrap();
+            let frame = Frame::new(&image);
+            let above = |k: usize| {
+                middle
+                    .iter()
+                    .map(|&(x, y)| frame.at(x as i64, (y - k) as i64).map_or(0.0, |c| c.0))
+                    .fold(0.0f32, f32::max)
+            };
+            let (next, further) = (above(1), above(2).max(above(3)));
+            println!(
+                "{} {form:?}: above the far outline, next to it {next}, further {further}",
+                mode.name()
+            );
+            assert!(
+                further <= 0.02,
+                "{} {form:?}: a band of {further} beyond the outline",
+                mode.name()
+            );
+        }
+    }
 }

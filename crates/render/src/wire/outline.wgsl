@@ -152,7 +152,15 @@ fn fs_outline(in: OutlineOut) -> @location(0) vec4<f32> {
     let c = outline_lines(in.inward.z, d, abs(cell_px), in.depth_fraction, level);
     let major = c.y > 0.0;
     let color = select(frame.wire_color, frame.major_color, major);
-    let alpha = max(c.x, c.y) * color.a;
+    var alpha = max(c.x, c.y) * color.a;
+    // Where the cells are so small on screen that the cap thins every line to `cap`
+    // coordinate units (coverage_analytic), the lines' mean covers the surface evenly;
+    // beyond it the edge's own line, that thin, is all there is to draw (not a band of
+    // that mean as wide as the quad).
+    let g = 2.0 / max(abs(cell_px), 1.0e-6) / level.x;
+    if 0.5 * frame.line.x * g > frame.line.y {
+        alpha = min(alpha, box_coverage(d, frame.line.y / g) * color.a);
+    }
     if alpha <= 0.0 {
         discard;
     }
