@@ -4,7 +4,7 @@
 //! draws in about the memory of one part, and the picture is the one mesh's.
 
 use strata_grid::faults::fault_traces_across_row;
-use strata_grid::outline::{OutlineEdge, outline_edges};
+use strata_grid::outline::{InteriorEdge, OutlineEdge, surface_edges};
 use strata_grid::{CornerPointGrid, SurfaceMesh};
 use strata_render::glam::Vec3;
 use strata_render::image::RgbaImage;
@@ -184,8 +184,8 @@ impl Parts {
         // scene's side walls (a part of their own) go down from the whole outline.
         let wired = wire.draws_edges() && !options.sides;
         let ny = grid.dims().ny;
-        // The fault traces and outline edges on a band's border with the band before,
-        // which neither finds alone, drawn after the band.
+        // The fault traces, outline edges and silhouettes on a band's border with the
+        // band before, which neither finds alone, drawn after the band.
         let mut border: Vec<Box<dyn strata_render::wire::Drawable>> = Vec::new();
         let image = renderer.render_parts_to(&view, &style, output, |r| -> Result<_> {
             if let Some(lines) = border.pop() {
@@ -229,11 +229,19 @@ impl Parts {
                             border.extend(r.prepare_fault_traces(&segments)?);
                         }
                         if wired {
-                            let edges: Vec<OutlineEdge> = outline_edges(&strip)
+                            let found = surface_edges(&strip);
+                            let on_border = |along_i: bool, l: u32| along_i && l == line;
+                            let edges: Vec<OutlineEdge> = found
+                                .outline
                                 .into_iter()
-                                .filter(|e| e.along_i && e.line == line)
+                                .filter(|e| on_border(e.along_i, e.line))
                                 .collect();
-                            border.extend(r.prepare_outline_edges(&edges)?);
+                            let shared: Vec<InteriorEdge> = found
+                                .interior
+                                .into_iter()
+                                .filter(|e| on_border(e.along_i, e.line))
+                                .collect();
+                            border.extend(r.prepare_border_edges(&edges, Some((&strip, &shared)))?);
                         }
                     }
                 }

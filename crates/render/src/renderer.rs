@@ -402,10 +402,22 @@ impl Renderer {
         &mut self,
         edges: &[strata_grid::outline::OutlineEdge],
     ) -> Result<Option<Box<dyn Drawable>>> {
+        self.prepare_border_edges(edges, None)
+    }
+
+    /// [`Renderer::prepare_outline_edges`], with the silhouettes among `shared`: sides
+    /// two faces of `mesh` share (`strata_grid::outline::surface_edges`), those on the
+    /// border of two bands of rows, found on a strip of rows across it.
+    pub fn prepare_border_edges(
+        &mut self,
+        edges: &[strata_grid::outline::OutlineEdge],
+        shared: Option<(&SurfaceMesh, &[strata_grid::outline::InteriorEdge])>,
+    ) -> Result<Option<Box<dyn Drawable>>> {
         self.build_edge_pipelines();
         let pipeline = self.edges.as_ref().map(|e| &e.outline);
+        let silhouettes = shared.and_then(|(mesh, shared)| wire::Silhouettes::new(mesh, shared));
         let lines = validated(&self.gpu, || {
-            Ok(pipeline.and_then(|p| wire::OutlineLines::new(&self.gpu, edges, None, p)))
+            Ok(pipeline.and_then(|p| wire::OutlineLines::new(&self.gpu, edges, silhouettes, p)))
         })?;
         Ok(lines.map(|l| Box::new(l) as Box<dyn Drawable>))
     }

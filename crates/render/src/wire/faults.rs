@@ -124,10 +124,10 @@ pub(crate) struct Edged {
 }
 
 impl Edged {
-    /// `inner` with the fault traces of `mesh`, its silhouettes and, where it draws
-    /// the outline (`outline` given: no side walls carry it), its outline edges but
-    /// those on the lines of constant j at the node rows `outline` lists (where the
-    /// mesh was cut from the rest of its surface).
+    /// `inner` with the fault traces of `mesh` and, where it draws the outline
+    /// (`outline` given: no side walls carry it), its silhouettes and its outline
+    /// edges but those on the lines of constant j at the node rows `outline` lists
+    /// (where the mesh was cut from the rest of its surface).
     pub fn new(
         gpu: &Gpu,
         inner: Box<dyn Drawable>,
@@ -135,17 +135,16 @@ impl Edged {
         pipelines: &EdgePipelines,
         outline: Option<&[u32]>,
     ) -> Self {
-        let found = surface_edges(mesh);
-        let edges: Vec<OutlineEdge> = match outline {
-            Some(cut_rows) => found
+        let outline = outline.and_then(|cut_rows| {
+            let found = surface_edges(mesh);
+            let edges: Vec<OutlineEdge> = found
                 .outline
                 .into_iter()
                 .filter(|e| !(e.along_i && cut_rows.contains(&e.line)))
-                .collect(),
-            None => Vec::new(),
-        };
-        let silhouettes = Silhouettes::new(mesh, &found.interior);
-        let outline = OutlineLines::new(gpu, &edges, silhouettes, &pipelines.outline);
+                .collect();
+            let silhouettes = Silhouettes::new(mesh, &found.interior);
+            OutlineLines::new(gpu, &edges, silhouettes, &pipelines.outline)
+        });
         let traces = FaultTraces::new(gpu, &fault_traces(mesh), &pipelines.faults);
         Edged {
             inner,

@@ -8,6 +8,7 @@ mod distance;
 mod faults;
 pub(crate) use faults::{EdgePipelines, Edged, FaultTraces};
 pub(crate) use outline::OutlineLines;
+pub(crate) use silhouette::Silhouettes;
 mod idbuffer;
 pub mod labels;
 mod lines;
