@@ -113,17 +113,9 @@ pub(crate) fn pixel_of(view: &View, origin: [f64; 3], point: [f64; 3]) -> Option
         (point[1] - origin[1]) as f32,
         (-point[2] - origin[2]) as f32,
     );
-    let camera = &view.camera;
-    let aspect = view.width as f32 / view.height.max(1) as f32;
-    let clip = camera.view_proj(aspect, 1.0, 2.0) * display.extend(1.0);
-    if clip.w <= f32::EPSILON {
-        return None;
-    }
-    let [x, y] = [clip.x / clip.w, clip.y / clip.w];
-    Some([
-        0.5 * (x + 1.0) * view.width as f32,
-        0.5 * (1.0 - y) * view.height as f32,
-    ])
+    let projection = view.projection();
+    let clip = projection.clip(display.to_array());
+    (clip.w > f32::EPSILON).then(|| projection.window(clip).to_array())
 }
 
 /// Where a ray met a mesh.

@@ -2,8 +2,8 @@
 //! screen-aligned quads of constant thickness over the surfaces. Unlike the cell
 //! lines, which come from the texture coordinates and thin out or fade with the cells'
 //! size on screen, these are geometry: they keep their width at every zoom. A mesh
-//! with cell faces finds its own ([`Edged`], with its outline edges); a hierarchy gives the ones it stored
-//! ([`FaultTraces`]).
+//! with cell faces finds its own ([`Edged`], with its outline edges); a hierarchy
+//! gives the ones it stored ([`FaultTraces`]).
 
 use strata_grid::SurfaceMesh;
 use strata_grid::faults::{Segment, fault_traces};
@@ -115,8 +115,8 @@ impl EdgePipelines {
 }
 
 /// A drawable and what of its mesh's edges is drawn after it: the outer half of the
-/// lines on its outline and silhouette, then the fault traces. What a texture technique's drawable is wrapped in
-/// (`Renderer::prepare`).
+/// lines on its outline and silhouette, then the fault traces. What a texture
+/// technique's drawable is wrapped in (`Renderer::prepare`).
 pub(crate) struct Edged {
     inner: Box<dyn Drawable>,
     outline: Option<OutlineLines>,
@@ -152,9 +152,7 @@ impl Edged {
             traces,
         }
     }
-}
 
-impl Edged {
     /// Draws the outline and traces into `pass`.
     fn edges_in_pass(&self, frame: &FrameTargets, pass: &mut wgpu::RenderPass<'_>) {
         if let Some(outline) = &self.outline {

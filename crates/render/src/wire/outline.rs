@@ -9,12 +9,12 @@
 //! nearly vanishes. This pass draws the other half as a screen-space quad per piece
 //! of the outline the frame draws (`outline_chains`: runs of edges along one grid line
 //! merged where they are straight on screen, chosen on the CPU), after the surface,
-//! depth tested without writing depth. The fragment keeps
-//! the pixels on the far side of the edge from the surface, evaluates the line as the
-//! texture techniques evaluate theirs (`cell_lines`: thickness, coverage form, major
-//! lines and their fading, attenuation), from its distance to the edge and the
-//! cell's width on screen, and around each end keeps only the pixels on its side of
-//! the bisector with the next edge, so a corner is covered once.
+//! depth tested without writing depth. The fragment keeps the pixels on the far side
+//! of the edge from the surface, evaluates the line as the texture techniques evaluate
+//! theirs (`cell_lines`: thickness, coverage form, major lines and their fading,
+//! attenuation), from its distance to the edge and the cell's width on screen, and
+//! around each end keeps only the pixels on its side of the bisector with the next
+//! edge, so a corner is covered once.
 //!
 //! # Why not the obvious way
 //! Widening the mesh by a skirt of triangles would need each technique to extrapolate
@@ -24,13 +24,13 @@
 
 use std::cell::RefCell;
 
+use glam::Vec3;
 use strata_grid::outline::OutlineEdge;
 use wgpu::util::DeviceExt;
 
+use super::lines::{PassSpec, shader};
 use super::outline_chains::{Chosen, OutlineChains};
 use super::silhouette::Silhouettes;
-
-use super::lines::{PassSpec, shader};
 use super::{Drawable, FrameTargets, PipelineContext};
 use crate::Gpu;
 
@@ -52,16 +52,8 @@ struct EdgeRecord {
 /// Whether `p`, `q` and `r` lie on one straight line, in that order: a straight
 /// line projects to a straight line.
 fn straight(p: [f32; 3], q: [f32; 3], r: [f32; 3]) -> bool {
-    let u: [f32; 3] = std::array::from_fn(|a| q[a] - p[a]);
-    let v: [f32; 3] = std::array::from_fn(|a| r[a] - q[a]);
-    let dot: f32 = (0..3).map(|a| u[a] * v[a]).sum();
-    let cross = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    let norm = |w: [f32; 3]| w.iter().map(|x| x * x).sum::<f32>().sqrt();
-    dot > 0.0 && norm(cross) <= 1.0e-5 * norm(u) * norm(v)
+    let (u, v) = (Vec3::from(q) - Vec3::from(p), Vec3::from(r) - Vec3::from(q));
+    u.dot(v) > 0.0 && u.cross(v).length() <= 1.0e-5 * u.length() * v.length()
 }
 
 impl EdgeRecord {
