@@ -169,13 +169,13 @@ pub fn surface_edges(mesh: &SurfaceMesh) -> SurfaceEdges {
         let at = table.at(faces[n].0).unwrap_or(0);
         if table.slot[at] != u32::MAX {
             // The column again: the next surface starts here.
-            surface_outline(mesh, &faces, start..n, &table, &mut out);
+            surface_edges_of(mesh, &faces, start..n, &table, &mut out);
             table.clear(&faces[start..n]);
             start = n;
         }
         table.slot[at] = n as u32;
     }
-    surface_outline(mesh, &faces, start..faces.len(), &table, &mut out);
+    surface_edges_of(mesh, &faces, start..faces.len(), &table, &mut out);
     out.outline
         .retain(|e| !walls.contains(&key(e.ends[0], e.ends[1])));
     out
@@ -217,7 +217,7 @@ fn far_corner(mesh: &SurfaceMesh, triangles: [u32; 2], p: u32, q: u32) -> Option
 
 /// Adds the edges of one surface, `faces[surface]` (held in `table`), to `out`: its
 /// outline edges, linked to their neighbours, and the sides its faces share.
-fn surface_outline(
+fn surface_edges_of(
     mesh: &SurfaceMesh,
     faces: &[Face],
     surface: std::ops::Range<usize>,
@@ -225,9 +225,8 @@ fn surface_outline(
     out: &mut SurfaceEdges,
 ) {
     let at = |v: u32| mesh.positions[v as usize];
-    let interior = &mut out.interior;
-    let out = &mut out.outline;
-    let first = out.len();
+    let SurfaceEdges { outline, interior } = out;
+    let first = outline.len();
     // Per edge: its cell and its first and second node in the (i, j) index plane.
     let mut nodes: Vec<([u32; 2], [[u32; 2]; 2])> = Vec::new();
     for &(cell, corners, triangles) in &faces[surface] {
@@ -276,7 +275,7 @@ fn surface_outline(
             let [p, q] = side.map(|c| at(corners[c]));
             let [r, s] = opposite.map(|c| at(corners[c]));
             let node = |c: usize| [cell[0] + (c as u32 & 1), cell[1] + (c as u32 >> 1)];
-            out.push(OutlineEdge {
+            outline.push(OutlineEdge {
                 ends: [p, q],
                 inward: std::array::from_fn(|a| 0.5 * (r[a] + s[a])),
                 line: if on_i_line { cell[0] } else { cell[1] } + offset,
@@ -301,11 +300,11 @@ fn surface_outline(
         }) else {
             continue;
         };
-        let (this, that) = (out[first + n], out[first + next]);
+        let (this, that) = (outline[first + n], outline[first + next]);
         // Edges split by a fault at the node do not meet.
         if this.ends[1] == that.ends[0] {
-            out[first + n].after = that.ends[1];
-            out[first + next].before = this.ends[0];
+            outline[first + n].after = that.ends[1];
+            outline[first + next].before = this.ends[0];
         }
     }
 }
